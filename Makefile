@@ -1,0 +1,43 @@
+# The project's commands. `make demo` and `make test` are the two a new user runs;
+# both install what is missing first. See README.md.
+SHELL := /bin/bash
+ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
+WS := $(ROOT)/catkin_ws
+# catkin needs the system Python (a pyenv python3 without catkin_pkg may shadow it).
+export PATH := /usr/bin:$(PATH)
+CATKIN := cd $(WS) && catkin_make -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -j2
+ENV := source $(WS)/devel/setup.bash
+
+.PHONY: all deps build test demo bench lint format clean
+
+all: build
+
+deps:
+	@bash $(ROOT)/scripts/install_deps.sh
+
+build: deps
+	@$(CATKIN)
+
+# Every gtest and rostest, then one summary line `N passed, N failed`.
+test: build
+	@rm -rf $(WS)/build/test_results
+	@$(CATKIN) run_tests > $(WS)/run_tests.log 2>&1 || \
+	  { grep -E 'error|Error' $(WS)/run_tests.log | head -40; echo "make test: see $(WS)/run_tests.log"; }
+	@grep -E '^\[  (FAILED|PASSED) |^\[ROSTEST\]|FAILURE' $(WS)/run_tests.log || true
+	@bash $(ROOT)/scripts/test_summary.sh $(WS)/build/test_results
+
+demo: build
+	@$(ENV) && bash $(ROOT)/scripts/demo.sh $(ROOT)/out
+
+bench: build
+	@$(ENV) && bash $(ROOT)/scripts/bench.sh
+
+lint: deps
+	@cd $(ROOT) && catkin_lint -W2 --strict src
+	@cd $(ROOT) && bash scripts/clang_format.sh --check
+
+format:
+	@cd $(ROOT) && bash scripts/clang_format.sh --fix
+
+clean:
+	rm -rf $(WS)/build $(WS)/devel $(WS)/run_tests.log $(ROOT)/src/CMakeLists.txt $(ROOT)/out
