@@ -68,8 +68,14 @@ Matrix7d CovarianceThesisFromRos(const Quat& q, const Matrix6d& cov6) {
 
 bool SymmetrizeCovariance(Eigen::Ref<Eigen::MatrixXd> cov) {
   if (!cov.allFinite()) return false;
-  const Eigen::MatrixXd sym = 0.5 * (cov + cov.transpose());
-  cov = sym;
+  // In place, without a temporary: this runs on every message.
+  for (Eigen::Index i = 0; i < cov.rows(); ++i) {
+    for (Eigen::Index j = i + 1; j < cov.cols(); ++j) {
+      const double m = 0.5 * (cov(i, j) + cov(j, i));
+      cov(i, j) = m;
+      cov(j, i) = m;
+    }
+  }
   return true;
 }
 

@@ -1,6 +1,7 @@
 #include "pose_math/quaternion.h"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -14,11 +15,13 @@ Quat NormalizedQuat(const Quat& q, const char* what) {
   if (!q.allFinite()) {
     throw std::invalid_argument(std::string(what) + ": quaternion has a non-finite coefficient");
   }
-  const double n = q.norm();
-  if (n < kMinQuaternionNorm) {
+  const double n2 = q.squaredNorm();
+  // Already unit to rounding: skip the sqrt and divide (the common case).
+  if (std::abs(n2 - 1.0) <= 4.0 * std::numeric_limits<double>::epsilon()) return q;
+  if (n2 < kMinQuaternionNorm * kMinQuaternionNorm) {
     throw std::invalid_argument(std::string(what) + ": quaternion norm is zero");
   }
-  return q / n;
+  return q / std::sqrt(n2);
 }
 
 Quat Conjugate(const Quat& q) { return Quat(q[0], -q[1], -q[2], -q[3]); }
@@ -83,8 +86,8 @@ Quat IntegrateExact(const Quat& q, const Eigen::Vector3d& omega_body_rad_s, doub
   const double w = omega_body_rad_s.norm();
   const double half_angle = 0.5 * w * dt_s;
   // sin(|ω|dt/2)/|ω| → dt/2 as |ω| → 0; the series keeps full precision there.
-  const double sin_over_w = half_angle < 1e-4 ? 0.5 * dt_s * (1.0 - half_angle * half_angle / 6.0)
-                                              : std::sin(half_angle) / w;
+  const double sin_over_w =
+      half_angle < 1e-4 ? 0.5 * dt_s * (1.0 - half_angle * half_angle / 6.0) : std::sin(half_angle) / w;
   const Quat out = std::cos(half_angle) * qn + sin_over_w * (OmegaMatrix(omega_body_rad_s) * qn);
   return NormalizedQuat(out, "IntegrateExact");
 }

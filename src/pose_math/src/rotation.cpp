@@ -39,17 +39,28 @@ Quat QuatFromRotation(const Eigen::Matrix3d& R) {
                                 1 - R(0, 0) + R(1, 1) - R(2, 2), 1 - R(0, 0) - R(1, 1) + R(2, 2));
   Eigen::Index k = 0;
   four_sq.maxCoeff(&k);
-  const double s = 2.0 * std::sqrt(std::max(four_sq[k], 0.0));  // 4 × the largest component
+  const double qk = 0.5 * std::sqrt(std::max(four_sq[k], 0.0));  // the largest component, >= 1/2
+  const double f = 0.25 / qk;
   // Products of pairs, times 4 (2.39).
   const double w_x = R(2, 1) - R(1, 2), w_y = R(0, 2) - R(2, 0), w_z = R(1, 0) - R(0, 1);
   const double x_y = R(0, 1) + R(1, 0), x_z = R(0, 2) + R(2, 0), y_z = R(1, 2) + R(2, 1);
   Quat q;
   switch (k) {
-    case 0: q << s / 4, w_x / s, w_y / s, w_z / s; break;
-    case 1: q << w_x / s, s / 4, x_y / s, x_z / s; break;
-    case 2: q << w_y / s, x_y / s, s / 4, y_z / s; break;
-    default: q << w_z / s, x_z / s, y_z / s, s / 4; break;
+    case 0:
+      q << qk, f * w_x, f * w_y, f * w_z;
+      break;
+    case 1:
+      q << f * w_x, qk, f * x_y, f * x_z;
+      break;
+    case 2:
+      q << f * w_y, f * x_y, qk, f * y_z;
+      break;
+    default:
+      q << f * w_z, f * x_z, f * y_z, qk;
+      break;
   }
+  // Unit to rounding for a proper rotation; normalising also absorbs a matrix
+  // slightly off SO(3).
   return CanonicalSign(NormalizedQuat(q, "QuatFromRotation"));
 }
 
@@ -62,7 +73,7 @@ Eigen::Matrix3d RotationFromAngleAxis(const AngleAxis& aa) {
     if (aa.angle_rad == 0.0) return Eigen::Matrix3d::Identity();
     throw std::invalid_argument("RotationFromAngleAxis: zero axis with a non-zero angle");
   }
-  const Eigen::Matrix3d S = Skew(aa.axis / n);  // (2.22)
+  const Eigen::Matrix3d S = Skew(aa.axis / n);                                                               // (2.22)
   return Eigen::Matrix3d::Identity() + std::sin(aa.angle_rad) * S + (1.0 - std::cos(aa.angle_rad)) * S * S;  // (2.21)
 }
 
@@ -72,7 +83,7 @@ AngleAxis AngleAxisFromRotation(const Eigen::Matrix3d& R) {
   const double cos_theta = 0.5 * (R.trace() - 1.0);
   AngleAxis aa;
   aa.angle_rad = std::atan2(sin_k.norm(), cos_theta);  // (2.23)
-  if (aa.angle_rad == 0.0) return aa;                   // any axis is valid
+  if (aa.angle_rad == 0.0) return aa;                  // any axis is valid
   if (cos_theta >= 0.0) {
     aa.axis = sin_k.normalized();  // (2.25)
     return aa;
@@ -80,10 +91,10 @@ AngleAxis AngleAxisFromRotation(const Eigen::Matrix3d& R) {
   // Symmetric part minus cos θ I equals (1 − cos θ) k kᵀ (2.26, generalised).
   const Eigen::Matrix3d kkT = (0.5 * (R + R.transpose()) - cos_theta * Eigen::Matrix3d::Identity()) / (1.0 - cos_theta);
   Eigen::Index i = 0;
-  kkT.diagonal().maxCoeff(&i);                         // (2.27): the largest
+  kkT.diagonal().maxCoeff(&i);  // (2.27): the largest
   const double ki = std::sqrt(std::max(kkT(i, i), 0.0));
-  Eigen::Vector3d k = kkT.col(i) / ki;                 // (2.28): k_i k_j / k_i
-  if (k.dot(sin_k) < 0.0) k = -k;                      // sign from R − Rᵀ; at θ = π it is 0 and k_i > 0 stays
+  Eigen::Vector3d k = kkT.col(i) / ki;  // (2.28): k_i k_j / k_i
+  if (k.dot(sin_k) < 0.0) k = -k;       // sign from R − Rᵀ; at θ = π it is 0 and k_i > 0 stays
   aa.axis = k.normalized();
   return aa;
 }

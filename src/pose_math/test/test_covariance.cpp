@@ -42,9 +42,7 @@ TEST(Covariance, PerturbationIsFixedAxisLeftMultiplication) {
   test::Random rnd(31);
   for (int n = 0; n < 20; ++n) {
     const Quat q = rnd.UnitQuat();
-    const auto f = [&](const Eigen::VectorXd& d) -> Eigen::VectorXd {
-      return Multiply(QuatFromRotationVector(d), q);
-    };
+    const auto f = [&](const Eigen::VectorXd& d) -> Eigen::VectorXd { return Multiply(QuatFromRotationVector(d), q); };
     EXPECT_LT((RotationPerturbationToQuat(q) - test::NumericJacobian(f, Eigen::Vector3d::Zero())).norm(), 1e-9);
   }
 }
@@ -101,10 +99,12 @@ TEST(Covariance, BadInputIsRejected) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(CovarianceRosFromThesis(Quat(nan, 0, 0, 0), Matrix7d::Identity()), std::invalid_argument);
   EXPECT_THROW(CovarianceThesisFromRos(Quat::Zero(), Matrix6d::Identity()), std::invalid_argument);
-  EXPECT_THROW(ConstrainedPoseCovariance(IdentityQuat(), Eigen::MatrixXd::Zero(12, 7), Eigen::MatrixXd::Identity(12, 12)),
-               std::invalid_argument);  // rank deficient
-  EXPECT_THROW(ConstrainedPoseCovariance(IdentityQuat(), Eigen::MatrixXd::Zero(12, 6), Eigen::MatrixXd::Identity(12, 12)),
-               std::invalid_argument);  // wrong shape
+  EXPECT_THROW(
+      ConstrainedPoseCovariance(IdentityQuat(), Eigen::MatrixXd::Zero(12, 7), Eigen::MatrixXd::Identity(12, 12)),
+      std::invalid_argument);  // rank deficient
+  EXPECT_THROW(
+      ConstrainedPoseCovariance(IdentityQuat(), Eigen::MatrixXd::Zero(12, 6), Eigen::MatrixXd::Identity(12, 12)),
+      std::invalid_argument);  // wrong shape
   Matrix6d cov6 = Matrix6d::Identity();
   cov6(2, 3) = nan;
   EXPECT_FALSE(SymmetrizeCovariance(cov6));

@@ -59,8 +59,12 @@ TEST(Pose, ComposeJacobiansMatchNumeric) {
     ComposeJacobians(A, B, &Ja, &Jb);
     const auto fa = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd { return ToVector(Compose(FromVector(x), B)); };
     const auto fb = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd { return ToVector(Compose(A, FromVector(x))); };
-    EXPECT_LT((Ja * QuaternionNullSpace(A.q) - test::NumericJacobian(fa, ToVector(A)) * QuaternionNullSpace(A.q)).norm(), 1e-8);
-    EXPECT_LT((Jb * QuaternionNullSpace(B.q) - test::NumericJacobian(fb, ToVector(B)) * QuaternionNullSpace(B.q)).norm(), 1e-8);
+    EXPECT_LT(
+        (Ja * QuaternionNullSpace(A.q) - test::NumericJacobian(fa, ToVector(A)) * QuaternionNullSpace(A.q)).norm(),
+        1e-8);
+    EXPECT_LT(
+        (Jb * QuaternionNullSpace(B.q) - test::NumericJacobian(fb, ToVector(B)) * QuaternionNullSpace(B.q)).norm(),
+        1e-8);
   }
 }
 

@@ -22,7 +22,7 @@ using Matrix6d = Eigen::Matrix<double, 6, 6>;
 using Vector7d = Eigen::Matrix<double, 7, 1>;
 
 struct Pose {
-  Quat q = IdentityQuat();                    // thesis order, unit
+  Quat q = IdentityQuat();                      // thesis order, unit
   Eigen::Vector3d t = Eigen::Vector3d::Zero();  // metres
 };
 
