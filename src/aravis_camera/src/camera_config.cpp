@@ -24,7 +24,8 @@ std::string Validate(const CameraConfig& c) {
   }
   if (c.inter_packet_delay_ns < 0) return Bad("inter_packet_delay", "must be >= 0 ns");
   if (c.n_buffers < 2 || c.n_buffers > 256) return Bad("n_buffers", "must be in [2, 256]");
-  if (!(c.reconnect_period_s > 0.0 && c.reconnect_period_s <= 60.0)) return Bad("reconnect_period", "must be in (0, 60] s");
+  if (!(c.reconnect_period_s > 0.0 && c.reconnect_period_s <= 60.0))
+    return Bad("reconnect_period", "must be in (0, 60] s");
   if (!(c.frame_timeout_s > 0.0)) return Bad("frame_timeout", "must be > 0 s");
   if (!std::isfinite(c.stamp_offset_s)) return Bad("stamp_offset", "must be finite (s)");
   if (c.frame_id.empty()) return Bad("frame_id", "must not be empty");

@@ -99,7 +99,8 @@ void CameraDevice::Run() {
         last_open_log_ns = now;
       }
       const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(config_.reconnect_period_s);
-      while (!stop_ && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      while (!stop_ && std::chrono::steady_clock::now() < until)
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
       continue;
     }
 
@@ -115,9 +116,10 @@ void CameraDevice::Run() {
     const int64_t now = HostNowNs();
     const bool timed_out = now - last_frame_ns_ > static_cast<int64_t>(config_.frame_timeout_s * 1e9);
     if (control_lost_ || timed_out) {
-      Log(LogLevel::kWarn, "camera '" + stats_.camera_id + "' lost (" +
-                               (control_lost_ ? std::string("control lost") : "no frame for " + Seconds(now - last_frame_ns_)) +
-                               "); reconnecting");
+      Log(LogLevel::kWarn,
+          "camera '" + stats_.camera_id + "' lost (" +
+              (control_lost_ ? std::string("control lost") : "no frame for " + Seconds(now - last_frame_ns_)) +
+              "); reconnecting");
       Close(/*camera_responds=*/false);
       lost_since_ns_ = now;
       last_open_log_ns = now;  // the reconnect attempts log only if they go on for long
@@ -164,7 +166,8 @@ void CameraDevice::HandleBuffer(ArvBuffer* buffer) {
   if (info.host_ns == 0) info.host_ns = now;
   int64_t stamp = info.host_ns;
   if (config_.stamp_source == StampSource::kCompletion) stamp = now;
-  if (config_.stamp_source == StampSource::kDevice && info.device_ns != 0) stamp = mapper_.Map(info.device_ns, info.host_ns);
+  if (config_.stamp_source == StampSource::kDevice && info.device_ns != 0)
+    stamp = mapper_.Map(info.device_ns, info.host_ns);
   info.stamp_ns = stamp - static_cast<int64_t>(config_.stamp_offset_s * 1e9);
 
   image->header.stamp.fromNSec(static_cast<uint64_t>(info.stamp_ns));

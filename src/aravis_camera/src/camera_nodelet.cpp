@@ -30,7 +30,8 @@ class CameraNodelet : public nodelet::Nodelet {
     diagnostics_ = std::make_unique<diagnostic_updater::Updater>(getNodeHandle(), pnh, getName());
     diagnostics_->setHardwareID("aravis_camera");
     diagnostics_->add("camera", this, &CameraNodelet::Diagnose);
-    diag_timer_ = pnh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { diagnostics_->update(); });
+    diag_timer_ =
+        pnh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { diagnostics_->update(); });
     try {
       config_ = LoadConfig(pnh);
     } catch (const std::exception& e) {
@@ -69,8 +70,8 @@ class CameraNodelet : public nodelet::Nodelet {
     auto info = boost::make_shared<sensor_msgs::CameraInfo>(cinfo_->getCameraInfo());
     if (info->width != 0 && (info->width != image->width || info->height != image->height)) {
       ++calibration_mismatches_;
-      NODELET_WARN_THROTTLE(10.0, "camera_info is for %ux%u but frames are %ux%u: check ~camera_info_url",
-                            info->width, info->height, image->width, image->height);
+      NODELET_WARN_THROTTLE(10.0, "camera_info is for %ux%u but frames are %ux%u: check ~camera_info_url", info->width,
+                            info->height, image->width, image->height);
     }
     info->header = image->header;
     frequency_->tick();

@@ -75,8 +75,9 @@ bool CameraDevice::ApplySettings() {
   arv_camera_get_region(camera_, &x, &y, &w, &h, &error);
   if (!Ok(error, "read region")) return false;
   if (config_.width_px > 0 || config_.height_px > 0 || config_.offset_x_px > 0 || config_.offset_y_px > 0) {
-    arv_camera_set_region(camera_, config_.offset_x_px, config_.offset_y_px, config_.width_px > 0 ? config_.width_px : w,
-                          config_.height_px > 0 ? config_.height_px : h, &error);
+    arv_camera_set_region(camera_, config_.offset_x_px, config_.offset_y_px,
+                          config_.width_px > 0 ? config_.width_px : w, config_.height_px > 0 ? config_.height_px : h,
+                          &error);
     if (!Ok(error, "region")) return false;
     arv_camera_get_region(camera_, &x, &y, &w, &h, &error);
     if (!Ok(error, "read region")) return false;

@@ -6,10 +6,10 @@
 // ~stamp_source:=completion on the camera to measure completion-to-callback
 // latency.
 #include <nodelet/nodelet.h>
-#include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 #include <sensor_msgs/Image.h>
 #include <std_msgs/String.h>
+#include <pluginlib/class_list_macros.hpp>
 
 #include <algorithm>
 #include <cstdio>

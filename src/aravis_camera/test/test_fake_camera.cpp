@@ -3,8 +3,8 @@
 // subscriber that holds every buffer.
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <algorithm>
+#include <chrono>
 #include <condition_variable>
 #include <mutex>
 #include <thread>
@@ -234,8 +234,8 @@ TEST(FakeCamera, SubscriberHoldingEveryBufferCausesCountedUnderruns) {
     col.held.clear();  // the subscriber lets go
   }
   ASSERT_TRUE(col.WaitFrames(20, 5s)) << "frames " << col.Count() << ", in flight " << device->stats().frames_in_flight
-                                       << ", underruns " << device->stats().underruns << "; log:\n"
-                                       << col.Log();
+                                      << ", underruns " << device->stats().underruns << "; log:\n"
+                                      << col.Log();
   device->Stop();
 }
 

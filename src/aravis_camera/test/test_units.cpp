@@ -62,8 +62,8 @@ TEST(TimestampMapper, RemovesArrivalJitter) {
   const int64_t period_ns = 33'333'333;
   for (int k = 0; k < 3000; ++k) {
     const uint64_t device = 5'000'000'000ULL + k * period_ns;
-    const int64_t host = static_cast<int64_t>(device) + 1'000'000'000'000LL + 2'000'000 +
-                         static_cast<int64_t>(jitter_ms(rng) * 1e6);
+    const int64_t host =
+        static_cast<int64_t>(device) + 1'000'000'000'000LL + 2'000'000 + static_cast<int64_t>(jitter_ms(rng) * 1e6);
     const int64_t mapped = mapper.Map(device, host);
     if (k > 100) {
       host_period_err_ms.push_back((host - prev_host - period_ns) * 1e-6);
@@ -75,7 +75,7 @@ TEST(TimestampMapper, RemovesArrivalJitter) {
     prev_mapped = mapped;
   }
   const double host_jitter = StdDev(host_period_err_ms), mapped_jitter = StdDev(mapped_period_err_ms);
-  EXPECT_GT(host_jitter, 0.5);           // ~0.7 ms: the arrival jitter
+  EXPECT_GT(host_jitter, 0.5);  // ~0.7 ms: the arrival jitter
   EXPECT_LT(mapped_jitter, 0.05 * host_jitter);
   EXPECT_EQ(mapper.resets(), 0u);
 }

@@ -26,10 +26,10 @@ namespace aravis_camera {
 enum class LogLevel { kInfo, kWarn, kError };
 
 struct FrameInfo {
-  int64_t stamp_ns = 0;        // the stamp to publish (config.stamp_source)
-  int64_t host_ns = 0;         // host clock at the frame's first packet
-  uint64_t device_ns = 0;      // the camera's timestamp
-  int64_t completion_ns = 0;   // host clock when the frame was complete and popped
+  int64_t stamp_ns = 0;       // the stamp to publish (config.stamp_source)
+  int64_t host_ns = 0;        // host clock at the frame's first packet
+  uint64_t device_ns = 0;     // the camera's timestamp
+  int64_t completion_ns = 0;  // host clock when the frame was complete and popped
   bool complete = true;
 };
 
