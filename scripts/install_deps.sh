@@ -9,7 +9,7 @@ PACKAGES=(
   # toolchain and tests
   build-essential cmake pkg-config googletest libgtest-dev clang-format catkin-lint
   # ROS 1 from Debian (Noetic era)
-  ros-core-dev catkin python3-catkin-pkg python3-rospkg python3-rostest python3-rosbag
+  ros-core-dev catkin rosbash python3-catkin-pkg python3-rospkg python3-rostest python3-rosbag
   libnodeletlib-dev libnodeletlib-tools pluginlib-dev
   libtf2-ros-dev libtf2-eigen-dev libtf2-geometry-msgs-dev python3-tf2-ros
   librosbag-dev libcv-bridge-dev libimage-transport-dev libcamera-info-manager-dev

@@ -2,7 +2,8 @@
 // Subscribes to `image` and counts the frames whose data is the driver's own
 // pool memory (FramePool::IsPoolMemory), i.e. frames that arrived without a
 // copy, and the latency from the frame's stamp to this callback. Publishes a
-// one-line summary on ~stats (std_msgs/String) every second. Use it with
+// one-line summary on ~stats (std_msgs/String) every second, latency over
+// the latest 3000 frames. Use it with
 // ~stamp_source:=completion on the camera to measure completion-to-callback
 // latency.
 #include <nodelet/nodelet.h>
@@ -13,6 +14,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <deque>
 #include <vector>
 
 #include "aravis_camera/frame_pool.h"
@@ -32,10 +34,11 @@ class ZeroCopyProbe : public nodelet::Nodelet {
     ++frames_;
     if (FramePool::IsPoolMemory(image->data.data())) ++zero_copy_frames_;
     latencies_ms_.push_back(latency_ms);
+    if (latencies_ms_.size() > kWindow) latencies_ms_.pop_front();
   }
 
   void Report(const ros::WallTimerEvent&) {
-    std::vector<double> l = latencies_ms_;
+    std::vector<double> l(latencies_ms_.begin(), latencies_ms_.end());
     double median = 0.0, p99 = 0.0;
     if (!l.empty()) {
       std::sort(l.begin(), l.end());
@@ -54,7 +57,8 @@ class ZeroCopyProbe : public nodelet::Nodelet {
   ros::Publisher stats_pub_;
   ros::WallTimer timer_;
   uint64_t frames_ = 0, zero_copy_frames_ = 0;
-  std::vector<double> latencies_ms_;  // single-threaded callbacks: no lock needed
+  static constexpr size_t kWindow = 3000;  // the latest frames, 100 s at 30 Hz
+  std::deque<double> latencies_ms_;        // single-threaded callbacks: no lock needed
 };
 
 }  // namespace aravis_camera
