@@ -21,6 +21,7 @@ std::string FindBySerial(const std::string& name) {
 bool CameraDevice::Open() {
   GError* error = nullptr;
   control_lost_ = false;
+  if (config_.enable_fake_interface) arv_enable_interface("Fake");
   if (!config_.camera_name.empty()) camera_ = arv_camera_new(config_.camera_name.c_str(), &error);
   if (camera_ == nullptr) {
     if (error != nullptr) g_clear_error(&error);

@@ -7,6 +7,7 @@ namespace aravis_camera {
 CameraConfig LoadConfig(const ros::NodeHandle& pnh) {
   CameraConfig c;
   pnh.param("camera_name", c.camera_name, c.camera_name);
+  pnh.param("enable_fake_interface", c.enable_fake_interface, c.enable_fake_interface);
   pnh.param("pixel_format", c.pixel_format, c.pixel_format);
   pnh.param("width", c.width_px, c.width_px);
   pnh.param("height", c.height_px, c.height_px);

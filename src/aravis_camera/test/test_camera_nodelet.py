@@ -6,6 +6,7 @@ import re
 import threading
 import unittest
 
+import dynamic_reconfigure.client
 import rospy
 import rostest
 from diagnostic_msgs.msg import DiagnosticArray
@@ -65,6 +66,17 @@ class CameraNodeletTest(unittest.TestCase):
         counts = dict(re.findall(r"(\w+)=([\d.]+)", self.probe))
         self.assertGreater(int(counts["frames"]), 0)
         self.assertEqual(counts["zero_copy"], counts["frames"], self.probe)
+
+        # dynamic_reconfigure reaches the camera: half the frame rate.
+        client = dynamic_reconfigure.client.Client("camera", timeout=10)
+        client.update_configuration({"frame_rate": 15.0})
+        rospy.sleep(1.0)
+        with self.lock:
+            start = len(self.images)
+        self.assertTrue(self.wait_for(lambda: len(self.images) >= start + 45, 20.0))
+        with self.lock:
+            frames = list(self.images[start:])
+        self.assertAlmostEqual((len(frames) - 1) / (frames[-1][1] - frames[0][1]), 15.0, delta=1.5)
 
         self.assertTrue(self.wait_for(lambda: self.diag is not None, 10.0), "no camera diagnostics")
         values = {kv.key: kv.value for kv in self.diag.values}

@@ -112,6 +112,32 @@ TEST(FakeCamera, FramesArriveAtTheConfiguredRateWithSizeAndEncoding) {
   EXPECT_NEAR((f[74].stamp_ns - f[74].completion_ns) * 1e-9, 0.0, 0.5);
 }
 
+// Discovery: Aravis's in-process fake camera is listed like a networked one.
+TEST(FakeCamera, OpensTheFirstCameraFoundOrOneBySerialNumber) {
+  for (const std::string name : {"", "1"}) {  // the first camera found; serial number 1
+    Collector col;
+    CameraConfig c = TestConfig("Mono8");
+    c.camera_name = name;
+    c.enable_fake_interface = true;
+    c.width_px = c.height_px = 0;
+    auto device = MakeDevice(c, &col);
+    device->Start();
+    ASSERT_TRUE(col.WaitFrames(3, 10s)) << "camera_name '" << name << "': " << col.Log();
+    EXPECT_TRUE(device->stats().connected);
+    device->Stop();
+  }
+  Collector col;
+  CameraConfig c = TestConfig("Mono8");
+  c.camera_name = "NO-SUCH-SERIAL";
+  c.enable_fake_interface = true;
+  auto device = MakeDevice(c, &col);
+  device->Start();
+  std::this_thread::sleep_for(1s);
+  EXPECT_EQ(col.Count(), 0u);
+  EXPECT_FALSE(device->stats().connected);
+  device->Stop();
+}
+
 TEST(FakeCamera, EachPixelFormatHasItsEncoding) {
   FakeCamera fake;
   for (const auto& [format, encoding, bpp] :

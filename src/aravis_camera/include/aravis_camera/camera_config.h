@@ -21,6 +21,9 @@ struct CameraConfig {
   // address (needed on loopback, where discovery broadcasts do not reach), or a
   // serial number looked up in the discovered device list.
   std::string camera_name;
+  // Also list Aravis's in-process fake camera (id "Fake_1", serial "1"):
+  // for trying the driver, and for tests of discovery, without a camera.
+  bool enable_fake_interface = false;
   std::string pixel_format = "BayerRG8";  // RGB8, BayerRG8/GR8/GB8/BG8, Mono8
   int width_px = 0;                       // 0: the camera's current/maximum
   int height_px = 0;
