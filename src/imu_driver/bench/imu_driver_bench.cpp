@@ -1,6 +1,9 @@
 // imu_driver_bench: parser throughput against a naive baseline on the same
 // bytes, clock-model jitter on synthetic arrivals, and the latency from the
 // last byte of a frame written to a pty to the sample callback.
+#include <stdlib.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
