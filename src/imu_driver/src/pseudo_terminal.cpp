@@ -29,7 +29,12 @@ void PseudoTerminal::Plug() {
 }
 
 void PseudoTerminal::Unplug() {
-  if (master_ >= 0) ::close(master_);
+  if (master_ < 0) return;
+  // The link goes first, as udev removes /dev/ttyUSB0 on unplug: the pty number
+  // is reused by the next openpty anywhere on the machine, and a reader that
+  // reopened a stale link could end up on someone else's pty.
+  ::unlink(link_.c_str());
+  ::close(master_);
   master_ = -1;
 }
 

@@ -2,6 +2,8 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/file.h>
+#include <sys/ioctl.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -44,6 +46,13 @@ bool SerialPort::Open(const std::string& path, int baud, std::string* error) {
     *error = SysError("cannot open " + path, errno);
     return false;
   }
+  // Two readers on one port would each get half the bytes: take the port
+  // exclusively (flock for other processes of ours, TIOCEXCL for the rest).
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    *error = SysError(path + " is in use by another process", errno);
+    ::close(fd);
+    return false;
+  }
   termios tio{};
   if (::tcgetattr(fd, &tio) != 0) {
     *error = SysError(path + " is not a serial device (tcgetattr)", errno);
@@ -60,6 +69,7 @@ bool SerialPort::Open(const std::string& path, int baud, std::string* error) {
     ::close(fd);
     return false;
   }
+  ::ioctl(fd, TIOCEXCL);    // best effort: refused silently by some drivers
   ::tcflush(fd, TCIFLUSH);  // bytes queued before we were ready are of unknown age
   fd_ = fd;
   path_ = path;

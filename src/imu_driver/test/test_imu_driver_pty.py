@@ -65,6 +65,9 @@ class Pty:
         os.rename(tmp, self.link)
 
     def unplug(self):
+        # The link goes first (like udev on unplug): the pty number is reused by the
+        # next openpty on the machine, and the driver must not reopen someone else's.
+        os.unlink(self.link)
         os.close(self.master)
         self.master = None
 

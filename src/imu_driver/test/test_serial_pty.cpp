@@ -150,5 +150,25 @@ TEST(SerialPort, RefusesUnsupportedBaudAndNonTty) {
   EXPECT_NE(err.find("/nonexistent/tty"), std::string::npos);
 }
 
+TEST(SerialPort, SecondReaderOfTheSamePortIsRefused) {
+  char tmpl[] = "/tmp/imu_driver_lock_XXXXXX";
+  ASSERT_NE(::mkdtemp(tmpl), nullptr);
+  const std::string link = std::string(tmpl) + "/imu";
+  {
+    PseudoTerminal pty(link);
+    pty.Plug();
+    SerialPort a, b;
+    std::string err;
+    ASSERT_TRUE(a.Open(link, 115200, &err)) << err;
+    EXPECT_FALSE(b.Open(link, 115200, &err));
+    EXPECT_NE(err.find("in use"), std::string::npos) << err;
+    a.Close();
+    EXPECT_TRUE(b.Open(link, 115200, &err)) << err;
+    pty.Unplug();
+    EXPECT_FALSE(::access(link.c_str(), F_OK) == 0);  // unplugging removes the link
+  }
+  ::rmdir(tmpl);
+}
+
 }  // namespace
 }  // namespace imu_driver
