@@ -141,8 +141,7 @@ void BenchLatency() {
   config.port = link;
   config.read_timeout_ms = 100;
   SerialReader reader(
-      config,
-      [] { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); },
+      config, [] { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); },
       [&](const ImuSample&) {
         std::lock_guard<std::mutex> l(m);
         received.push_back(Clock::now());
@@ -159,10 +158,12 @@ void BenchLatency() {
     std::this_thread::sleep_for(std::chrono::milliseconds(2));  // the frame's body is already there
     const auto t0 = Clock::now();
     imu.Write(&f.back(), 1);  // the last byte
-    test::WaitFor([&] {
-      std::lock_guard<std::mutex> l(m);
-      return received.size() == static_cast<size_t>(k + 1);
-    }, 1.0);
+    test::WaitFor(
+        [&] {
+          std::lock_guard<std::mutex> l(m);
+          return received.size() == static_cast<size_t>(k + 1);
+        },
+        1.0);
     std::lock_guard<std::mutex> l(m);
     if (received.size() == static_cast<size_t>(k + 1)) latency_us.push_back(Seconds(t0, received.back()) * 1e6);
     std::this_thread::sleep_for(std::chrono::milliseconds(8));

@@ -54,7 +54,8 @@ class ImuDriverNodelet : public nodelet::Nodelet {
       diagnostics_.Fill(reader_->status(), config_, calibration_->calibrated(), calibration_->bias_rad_s(),
                         ros::Time::now().toSec(), &s);
     });
-    diag_timer_ = nh.createWallTimer(ros::WallDuration(0.25), [this](const ros::WallTimerEvent&) { updater_->update(); });
+    diag_timer_ =
+        nh.createWallTimer(ros::WallDuration(0.25), [this](const ros::WallTimerEvent&) { updater_->update(); });
 
     reader_ = std::make_unique<SerialReader>(
         config_.reader, [] { return ros::Time::now().toSec(); }, [this](const ImuSample& s) { OnSample(s); },

@@ -10,9 +10,8 @@ namespace {
 
 // CRC-16/ARC, one nibble at a time: entry i is the CRC register after shifting
 // nibble i through the reflected polynomial 0xA001 four times.
-constexpr std::array<uint16_t, 16> kCrcNibbleTable = {0x0000, 0xCC01, 0xD801, 0x1400, 0xF001, 0x3C00,
-                                                      0x2800, 0xE401, 0xA001, 0x6C00, 0x7800, 0xB401,
-                                                      0x5000, 0x9C01, 0x8801, 0x4400};
+constexpr std::array<uint16_t, 16> kCrcNibbleTable = {0x0000, 0xCC01, 0xD801, 0x1400, 0xF001, 0x3C00, 0x2800, 0xE401,
+                                                      0xA001, 0x6C00, 0x7800, 0xB401, 0x5000, 0x9C01, 0x8801, 0x4400};
 
 void PutU16(uint8_t* p, uint16_t v) {
   p[0] = static_cast<uint8_t>(v >> 8);

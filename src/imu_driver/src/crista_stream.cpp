@@ -34,7 +34,8 @@ uint64_t CristaStream::UnwrapSequence(uint8_t seq, double arrival_s) {
     // After a reconnect the counter may have restarted: bridge the outage with
     // the host clock so the device time keeps increasing.
     if (counts_.samples > 0) {
-      ticks_ += static_cast<uint64_t>(std::max<int64_t>(1, std::llround((arrival_s - last_arrival_s_) * config_.rate_hz)));
+      ticks_ +=
+          static_cast<uint64_t>(std::max<int64_t>(1, std::llround((arrival_s - last_arrival_s_) * config_.rate_hz)));
     }
     return ticks_;
   }

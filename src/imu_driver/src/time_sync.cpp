@@ -51,8 +51,8 @@ double TimeSync::Update(double device_s, double arrival_s) {
   } else if (observation_s > predicted + config_.jump_threshold_s) {
     if (high_since_s_ < 0.0) high_since_s_ = device_s;
     if (device_s - high_since_s_ > config_.max_high_s) {
-      why << "arrivals later than the clock model by > " << config_.jump_threshold_s << " s for "
-          << config_.max_high_s << " s";
+      why << "arrivals later than the clock model by > " << config_.jump_threshold_s << " s for " << config_.max_high_s
+          << " s";
     }
   } else {
     high_since_s_ = -1.0;

@@ -13,12 +13,12 @@ namespace imu_driver {
 namespace test {
 
 struct JitterScenario {
-  double skew_ppm = 50.0;       // IMU clock rate error
+  double skew_ppm = 50.0;  // IMU clock rate error
   double seconds = 120.0;
   double rate_hz = 100.0;
   double mean_latency_s = 1e-3;  // exponential scheduling/USB latency
   double stall_probability = 0.01;
-  double stall_s = 0.02;         // occasional long stalls (bursts)
+  double stall_s = 0.02;  // occasional long stalls (bursts)
   unsigned seed = 3;
 };
 

@@ -80,7 +80,8 @@ inline ScriptedStream MakeScriptedStream(std::mt19937& rng, int num_slots) {
     if (pick < 0.06) {  // bad CRC: one payload byte changed to a value that is no sync byte
       const size_t k = kHeaderBytes + rng() % kHighSpeedConvertedBytes;
       uint8_t b;
-      do b = static_cast<uint8_t>(rng()); while (b == f[k] || b == kSync0 || b == kSync1);
+      do b = static_cast<uint8_t>(rng());
+      while (b == f[k] || b == kSync0 || b == kSync1);
       f[k] = b;
       if (HasSyncPairAfterStart(f)) continue;  // would be two events; keep the script exact
       ++s.expected.bad_crc;
@@ -100,7 +101,7 @@ inline ScriptedStream MakeScriptedStream(std::mt19937& rng, int num_slots) {
       ++s.expected.unknown_type;
       s.expected.bytes_accepted += g.size();
       append(g);
-    } else if (pick < 0.17) {  // cut short: the next frame starts inside it
+    } else if (pick < 0.17) {              // cut short: the next frame starts inside it
       const size_t keep = 4 + rng() % 19;  // header complete, next sync pair inside the 24-byte window
       f.resize(keep);
       prev_truncated = true;

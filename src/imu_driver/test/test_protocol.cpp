@@ -67,7 +67,7 @@ TEST(Protocol, HandBuiltFrameDecodesToKnownValues) {
 
 TEST(Protocol, ScaleFactors) {
   HighSpeedRaw raw;
-  raw.gyro_counts = {1092, -1092, 0};  // 1092 * 600 / 65536 = 9.99755859375 deg/s
+  raw.gyro_counts = {1092, -1092, 0};    // 1092 * 600 / 65536 = 9.99755859375 deg/s
   raw.accel_counts = {3278, 0, -32768};  // 3278 * 196.1 / 65536 m/s^2
   raw.time_since_pps_100us = 12345;
   const ImuSampleSi si = ToSi(raw);

@@ -13,9 +13,7 @@
 namespace imu_driver {
 namespace {
 
-double WallNow() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
+double WallNow() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
 
 class PtyDriverTest : public ::testing::Test {
  protected:

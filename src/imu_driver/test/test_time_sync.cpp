@@ -15,7 +15,7 @@ TEST(TimeSync, FirstSampleUsesArrival) {
   EXPECT_DOUBLE_EQ(ts.Update(0.0, 100.0), 100.0);
   // Before the skew is fitted the estimate may rise at max_skew_ppm, no faster.
   EXPECT_DOUBLE_EQ(ts.Update(0.01, 100.0105), 100.01 + 1000e-6 * 0.01);
-  EXPECT_DOUBLE_EQ(ts.Update(0.02, 100.0199), 100.0199);                // snaps down
+  EXPECT_DOUBLE_EQ(ts.Update(0.02, 100.0199), 100.0199);  // snaps down
 }
 
 TEST(TimeSync, JitterIsRemovedAndSkewTracked) {

@@ -56,7 +56,8 @@ int main(int argc, char** argv) {
   std::vector<imu_driver::GravityPair> pairs;
   try {
     const YAML::Node in = YAML::LoadFile(argv[1]);
-    const Eigen::Vector3d up_in_grid = in["up_in_grid"] ? Vec3(in["up_in_grid"], "up_in_grid") : Eigen::Vector3d(0, 0, -1);
+    const Eigen::Vector3d up_in_grid =
+        in["up_in_grid"] ? Vec3(in["up_in_grid"], "up_in_grid") : Eigen::Vector3d(0, 0, -1);
     for (const YAML::Node& pose : in["poses"]) {
       pairs.push_back(imu_driver::MakeGravityPair(Vec3(pose["accel_mean_m_s2"], "accel_mean_m_s2"),
                                                   CameraFromGrid(pose), up_in_grid));
@@ -91,8 +92,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "calibrate_camera_imu: cannot write %s\n", argv[2]);
     return 1;
   }
-  std::printf("R_camera_imu by SVD: rms residual %.4f deg; by Euler minimisation: %.4f deg (%d iterations); "
-              "the two differ by %.5f deg\n",
-              svd.rms_residual_deg, euler.rms_residual_deg, euler.iterations, disagreement_deg);
+  std::printf(
+      "R_camera_imu by SVD: rms residual %.4f deg; by Euler minimisation: %.4f deg (%d iterations); "
+      "the two differ by %.5f deg\n",
+      svd.rms_residual_deg, euler.rms_residual_deg, euler.iterations, disagreement_deg);
   return 0;
 }

@@ -32,11 +32,10 @@ Eigen::Vector3d ParseVector(const std::string& s) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::map<std::string, std::string> a = {{"--link", "/tmp/crista"},     {"--rate", "100"},
-                                          {"--seconds", "0"},            {"--omega", "0,0,0"},
-                                          {"--gyro-bias", "0,0,0"},      {"--gyro-sigma", "0.003"},
-                                          {"--accel-sigma", "0.03"},     {"--garbage", "0"},
-                                          {"--seed", "1"}};
+  std::map<std::string, std::string> a = {
+      {"--link", "/tmp/crista"}, {"--rate", "100"},        {"--seconds", "0"},
+      {"--omega", "0,0,0"},      {"--gyro-bias", "0,0,0"}, {"--gyro-sigma", "0.003"},
+      {"--accel-sigma", "0.03"}, {"--garbage", "0"},       {"--seed", "1"}};
   for (int i = 1; i < argc; i += 2) {
     if (std::string(argv[i]).find(":=") != std::string::npos) {  // roslaunch's __name:=, __log:=
       --i;
@@ -80,7 +79,8 @@ int main(int argc, char** argv) {
     const Eigen::Vector3d up_world(0.0, 0.0, 9.81);  // what an accelerometer at rest reads
     imu_driver::ImuSampleSi si;
     const Eigen::Vector3d w = omega + bias + gyro_sigma * Eigen::Vector3d(n(rng), n(rng), n(rng));
-    const Eigen::Vector3d f = q_world_imu.conjugate() * up_world + accel_sigma * Eigen::Vector3d(n(rng), n(rng), n(rng));
+    const Eigen::Vector3d f =
+        q_world_imu.conjugate() * up_world + accel_sigma * Eigen::Vector3d(n(rng), n(rng), n(rng));
     for (int i = 0; i < 3; ++i) {
       si.omega_imu_rad_s[i] = w(i);
       si.accel_imu_m_s2[i] = f(i);
@@ -96,8 +96,8 @@ int main(int argc, char** argv) {
       return 1;
     }
     if (omega.norm() > 0.0) {
-      q_world_imu = (q_world_imu * Eigen::Quaterniond(Eigen::AngleAxisd(omega.norm() * dt, omega.normalized())))
-                        .normalized();
+      q_world_imu =
+          (q_world_imu * Eigen::Quaterniond(Eigen::AngleAxisd(omega.norm() * dt, omega.normalized()))).normalized();
     }
     std::this_thread::sleep_until(start + std::chrono::duration<double>((k + 1) * dt));
   }

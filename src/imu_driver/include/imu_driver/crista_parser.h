@@ -57,7 +57,7 @@ class CristaParser {
   size_t Parse(const uint8_t* buf, size_t n, bool at_end);
 
   FrameCallback on_frame_;
-  uint64_t base_offset_ = 0;       // stream offset of buf[0] during Parse
+  uint64_t base_offset_ = 0;      // stream offset of buf[0] during Parse
   std::vector<uint8_t> pending_;  // unconsumed tail, always shorter than kMaxFrameBytes
   ParserCounts counts_;
 };

@@ -20,28 +20,28 @@ namespace imu_driver {
 
 constexpr uint8_t kSync0 = 0x55;
 constexpr uint8_t kSync1 = 0xAA;
-constexpr size_t kHeaderBytes = 4;   // sync0, sync1, type, length
+constexpr size_t kHeaderBytes = 4;  // sync0, sync1, type, length
 constexpr size_t kCrcBytes = 2;
 constexpr size_t kMaxPayloadBytes = 18;  // vendor's MAX_PAYLOAD_BYTES
 constexpr size_t kMaxFrameBytes = kHeaderBytes + kMaxPayloadBytes + kCrcBytes;
 
 enum class MsgType : uint8_t {
-  kRawGyro = 0x00,            // 3 x u16 A/D counts + seq
-  kRawAccel = 0x02,           // 3 x u16 A/D counts + seq
-  kTiming = 0x03,             // u32 time since PPS (100 us), u8 PPS count, u8 seq, s16 clock error
-  kResolution = 0x04,         // f32 gyro range (deg/s), f32 accel range (g)
+  kRawGyro = 0x00,     // 3 x u16 A/D counts + seq
+  kRawAccel = 0x02,    // 3 x u16 A/D counts + seq
+  kTiming = 0x03,      // u32 time since PPS (100 us), u8 PPS count, u8 seq, s16 clock error
+  kResolution = 0x04,  // f32 gyro range (deg/s), f32 accel range (g)
   kResUnitsGyro = 0x05,
   kResUnitsAccel = 0x06,
-  kSetSettings = 0x07,        // host -> IMU
-  kSettings = 0x08,           // u8 device, u8 mode, u16 oversample, u32 period (us)
+  kSetSettings = 0x07,  // host -> IMU
+  kSettings = 0x08,     // u8 device, u8 mode, u16 oversample, u32 period (us)
   kMfrCalDate = 0x09,
   kSerialNumConfig = 0x0A,
   kSwVersion = 0x0B,
   kBoardReference = 0x0C,
-  kReqConfig = 0x0D,          // host -> IMU
-  kReqCalParam = 0x16,        // host -> IMU
+  kReqConfig = 0x0D,    // host -> IMU
+  kReqCalParam = 0x16,  // host -> IMU
   kCalParam = 0x17,
-  kRawGyroTempX = 0x18,       // f32 volts
+  kRawGyroTempX = 0x18,  // f32 volts
   kRawGyroTempY = 0x19,
   kRawGyroTempZ = 0x1A,
   kSensorHeadCrcStatus = 0x1C,

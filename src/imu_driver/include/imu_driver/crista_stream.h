@@ -27,10 +27,10 @@ struct ImuSample {
 };
 
 struct StreamCounts {
-  uint64_t samples = 0;           // 0xFF messages delivered
-  uint64_t sequence_gaps = 0;     // events where at least one sample was missing
-  uint64_t samples_missed = 0;    // sum of the gap sizes
-  uint64_t sequence_repeats = 0;  // same sequence number twice in a row
+  uint64_t samples = 0;                        // 0xFF messages delivered
+  uint64_t sequence_gaps = 0;                  // events where at least one sample was missing
+  uint64_t samples_missed = 0;                 // sum of the gap sizes
+  uint64_t sequence_repeats = 0;               // same sequence number twice in a row
   std::array<uint64_t, 256> frames_by_type{};  // every CRC-valid frame of a defined type
 };
 

@@ -27,9 +27,9 @@ struct SerialReaderConfig {
 // Thread-safe copy of what diagnostics need.
 struct SerialReaderStatus {
   bool connected = false;
-  std::string last_error;        // empty while healthy
-  uint64_t open_failures = 0;    // consecutive, reset on success
-  uint64_t disconnects = 0;      // device lost while open
+  std::string last_error;      // empty while healthy
+  uint64_t open_failures = 0;  // consecutive, reset on success
+  uint64_t disconnects = 0;    // device lost while open
   uint64_t connects = 0;
   double last_sample_host_s = -1.0;  // host clock of the last sample, -1 before any
   ParserCounts parser;

@@ -222,4 +222,4 @@ class ImuDriverPtyTest(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    rostest.rosrun("imu_driver", "imu_driver_pty", ImuDriverPtyTest, sys.argv)
+    rostest.rosrun("imu_driver", "driver_on_pty", ImuDriverPtyTest, sys.argv)
