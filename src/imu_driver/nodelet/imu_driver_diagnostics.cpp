@@ -2,6 +2,10 @@
 
 #include <diagnostic_msgs/DiagnosticStatus.h>
 
+#include <string>
+
+#include "imu_driver/crista_messages.h"
+
 namespace imu_driver {
 
 void DriverDiagnostics::Fill(const SerialReaderStatus& st, const DriverConfig& config, bool calibrated,
@@ -18,6 +22,8 @@ void DriverDiagnostics::Fill(const SerialReaderStatus& st, const DriverConfig& c
     s->summary(DiagnosticStatus::WARN, "port open, no IMU data yet");
   } else if (age_s > config.stale_after_s) {
     s->summaryf(DiagnosticStatus::ERROR, "no IMU data for %.2f s", age_s);
+  } else if (!CheckDeviceInfo(st.stream.device, config.reader.stream.rate_hz).empty()) {
+    s->summary(DiagnosticStatus::ERROR, CheckDeviceInfo(st.stream.device, config.reader.stream.rate_hz));
   } else if (rejects > last_rejects_ || st.stream.sequence_gaps > last_gaps_) {
     s->summaryf(DiagnosticStatus::WARN, "%lu corrupt frame(s), %lu sequence gap(s) since the last report",
                 static_cast<unsigned long>(rejects - last_rejects_),
@@ -47,6 +53,12 @@ void DriverDiagnostics::Fill(const SerialReaderStatus& st, const DriverConfig& c
   s->add("other message types", p.frames_ok - st.stream.frames_by_type[0xFF]);
   s->add("clock skew (ppm)", st.skew_ppm);
   s->add("timestamp model resets", st.time_sync_resets);
+  const DeviceInfo& dev = st.stream.device;
+  s->add("IMU output rate (Hz, reported)", dev.have_settings ? std::to_string(dev.output_rate_hz) : "not reported");
+  s->add("IMU ranges (reported)", dev.have_resolution ? std::to_string(dev.gyro_range_deg_s) + " deg/s, " +
+                                                            std::to_string(dev.accel_range_g) + " g"
+                                                      : "not reported");
+  s->add("IMU software", dev.software_version.empty() ? "not reported" : dev.software_version);
   s->add("gyro calibrated", calibrated);
   s->addf("gyro bias (rad/s)", "%.6f %.6f %.6f", bias(0), bias(1), bias(2));
 }

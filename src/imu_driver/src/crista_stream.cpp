@@ -57,7 +57,10 @@ uint64_t CristaStream::UnwrapSequence(uint8_t seq, double arrival_s) {
 
 void CristaStream::OnFrame(const FrameView& frame) {
   ++counts_.frames_by_type[frame.type];
-  if (frame.type != static_cast<uint8_t>(MsgType::kHighSpeedConverted)) return;
+  if (frame.type != static_cast<uint8_t>(MsgType::kHighSpeedConverted)) {
+    UpdateDeviceInfo(frame, &counts_.device);
+    return;
+  }
   // Host time at which the frame's first byte was sent: the read returned after
   // the chunk's last byte, and each byte takes 10 bit times at 8N1.
   const uint64_t bytes_after = parser_.counts().bytes_in - frame.end_offset;

@@ -1,5 +1,6 @@
 #include "imu_driver/pseudo_terminal.h"
 
+#include <poll.h>
 #include <pty.h>
 #include <termios.h>
 #include <unistd.h>
@@ -46,6 +47,13 @@ void PseudoTerminal::Write(const uint8_t* d, size_t n) {
     d += w;
     n -= static_cast<size_t>(w);
   }
+}
+
+size_t PseudoTerminal::Read(uint8_t* buf, size_t capacity, int timeout_ms) {
+  pollfd p{master_, POLLIN, 0};
+  if (master_ < 0 || ::poll(&p, 1, timeout_ms) <= 0 || !(p.revents & POLLIN)) return 0;
+  const ssize_t n = ::read(master_, buf, capacity);
+  return n > 0 ? static_cast<size_t>(n) : 0;
 }
 
 }  // namespace imu_driver

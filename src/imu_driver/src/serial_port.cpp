@@ -90,6 +90,25 @@ void SerialPort::Close() {
   fd_ = -1;
 }
 
+bool SerialPort::Write(const uint8_t* data, size_t n, int timeout_ms, std::string* error) {
+  while (n > 0) {
+    pollfd p{fd_, POLLOUT, 0};
+    if (fd_ < 0 || ::poll(&p, 1, timeout_ms) <= 0) {
+      *error = "write " + path_ + ": timed out or port closed";
+      return false;
+    }
+    const ssize_t w = ::write(fd_, data, n);
+    if (w < 0 && (errno == EAGAIN || errno == EINTR)) continue;
+    if (w <= 0) {
+      *error = SysError("write " + path_, errno);
+      return false;
+    }
+    data += w;
+    n -= static_cast<size_t>(w);
+  }
+  return true;
+}
+
 SerialPort::ReadResult SerialPort::Read(uint8_t* buf, size_t capacity, int timeout_ms) {
   ReadResult r;
   if (fd_ < 0) {

@@ -93,6 +93,11 @@ void SerialReader::Run() {
         ++st.connects;
       });
       log_(0, "opened " + config_.port + " at " + std::to_string(config_.baud) + " baud");
+      if (config_.request_config_on_connect) {
+        const std::vector<uint8_t> request = EncodeConfigRequest();
+        std::string werr;
+        if (!port_.Write(request.data(), request.size(), 100, &werr)) log_(1, "configuration request: " + werr);
+      }
     }
     const SerialPort::ReadResult r = port_.Read(buf.data(), buf.size(), config_.read_timeout_ms);
     if (r.status == SerialPort::ReadStatus::kData) {
@@ -107,6 +112,9 @@ void SerialReader::Run() {
       });
       log_(2, r.error + "; device lost, reopening " + config_.port);
     }
+    const std::string problem = CheckDeviceInfo(stream_.counts().device, config_.stream.rate_hz);
+    if (problem != device_problem_ && !problem.empty()) log_(2, problem);
+    device_problem_ = problem;
     const std::string reset = stream_.time_sync().TakeResetReason();
     if (!reset.empty()) log_(1, "timestamp model reset: " + reset);
     UpdateStatus([&](SerialReaderStatus& st) {

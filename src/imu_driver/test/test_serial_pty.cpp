@@ -137,6 +137,37 @@ TEST_F(PtyDriverTest, UnplugAndReplugRecoversWithoutRestart) {
   for (size_t i = 1; i < samples_.size(); ++i) EXPECT_GT(samples_[i].stamp_s, samples_[i - 1].stamp_s) << i;
 }
 
+TEST_F(PtyDriverTest, RequestsConfigurationOnConnectAndChecksTheReply) {
+  test::PtyWriter imu(config_.port);
+  imu.Plug();
+  StartReader();
+  std::vector<uint8_t> got;
+  ASSERT_TRUE(test::WaitFor([&] {
+    uint8_t b[64];
+    const size_t n = imu.Read(b, sizeof b, 10);
+    got.insert(got.end(), b, b + n);
+    return got.size() >= 6;
+  }));
+  EXPECT_EQ(got, EncodeConfigRequest());
+  // The IMU answers: configured for 50 Hz, not the 100 Hz the driver assumes.
+  const auto settings = EncodeSettingsPayload(50.0, 20);
+  const auto res = EncodeResolutionPayload(300.0f, 10.0f);
+  auto reply = EncodeFrame(static_cast<uint8_t>(MsgType::kSettings), settings.data(), settings.size());
+  const auto r2 = EncodeFrame(static_cast<uint8_t>(MsgType::kResolution), res.data(), res.size());
+  reply.insert(reply.end(), r2.begin(), r2.end());
+  imu.Write(reply.data(), reply.size());
+  ASSERT_TRUE(test::WaitFor([&] { return reader_->status().stream.device.have_resolution; }));
+  EXPECT_DOUBLE_EQ(reader_->status().stream.device.output_rate_hz, 50.0);
+  EXPECT_DOUBLE_EQ(reader_->status().stream.device.gyro_range_deg_s, 300.0);
+  ASSERT_TRUE(test::WaitFor([&] {
+    std::lock_guard<std::mutex> l(mutex_);
+    for (const auto& [level, m] : logs_) {
+      if (level == 2 && m.find("50 Hz") != std::string::npos) return true;
+    }
+    return false;
+  }));
+}
+
 TEST(SerialPort, RefusesUnsupportedBaudAndNonTty) {
   SerialPort p;
   std::string err;

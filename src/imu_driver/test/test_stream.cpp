@@ -96,5 +96,33 @@ TEST(Stream, ReconnectKeepsDeviceTimeIncreasing) {
   EXPECT_NEAR(c.samples[2].stamp_s, c.samples[2].arrival_s, 1e-3);
 }
 
+TEST(Stream, ConfigurationRepliesAreDecodedAndChecked) {
+  StreamCollector c;
+  const auto settings = EncodeSettingsPayload(100.0, 20);
+  const auto res = EncodeResolutionPayload(300.0f, 10.0f);
+  const uint8_t version[8] = {2, 1, 7, 0, 5, 12, 0x07, 0xD6};
+  const uint8_t timing[8] = {0, 0, 0, 5, 1, 2, 0xFF, 0xFE};
+  std::vector<uint8_t> bytes;
+  for (const auto& f : {EncodeFrame(0x08, settings.data(), settings.size()), EncodeFrame(0x04, res.data(), res.size()),
+                        EncodeFrame(0x0B, version, 8), EncodeFrame(0x03, timing, 8)}) {
+    bytes.insert(bytes.end(), f.begin(), f.end());
+  }
+  c.stream.Feed(bytes.data(), bytes.size(), 1.0);
+  const DeviceInfo& d = c.stream.counts().device;
+  EXPECT_TRUE(c.samples.empty());
+  EXPECT_DOUBLE_EQ(d.output_rate_hz, 100.0);
+  EXPECT_EQ(d.oversample_ratio, 20);
+  EXPECT_DOUBLE_EQ(d.gyro_range_deg_s, 300.0);
+  EXPECT_DOUBLE_EQ(d.accel_range_g, 10.0);
+  EXPECT_EQ(d.software_version, "2.1.7");
+  EXPECT_EQ(d.clock_error, -2);
+  EXPECT_EQ(c.stream.counts().frames_by_type[0x03], 1u);
+  EXPECT_EQ(CheckDeviceInfo(d, 100.0), "");
+  EXPECT_NE(CheckDeviceInfo(d, 50.0).find("100 Hz"), std::string::npos);
+  DeviceInfo other = d;
+  other.gyro_range_deg_s = 1200.0;
+  EXPECT_NE(CheckDeviceInfo(other, 100.0).find("1200"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace imu_driver

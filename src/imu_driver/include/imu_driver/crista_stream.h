@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 
+#include "imu_driver/crista_messages.h"
 #include "imu_driver/crista_parser.h"
 #include "imu_driver/crista_protocol.h"
 #include "imu_driver/time_sync.h"
@@ -32,6 +33,7 @@ struct StreamCounts {
   uint64_t samples_missed = 0;                 // sum of the gap sizes
   uint64_t sequence_repeats = 0;               // same sequence number twice in a row
   std::array<uint64_t, 256> frames_by_type{};  // every CRC-valid frame of a defined type
+  DeviceInfo device;                           // from the configuration replies
 };
 
 class CristaStream {

@@ -22,6 +22,8 @@ class PseudoTerminal {
   void Unplug();
   // Writes everything (blocking). Throws std::runtime_error when the pty is gone.
   void Write(const uint8_t* data, size_t n);
+  // What the reader sent to the device: up to capacity bytes, waiting up to timeout_ms.
+  size_t Read(uint8_t* buf, size_t capacity, int timeout_ms);
   const std::string& link() const { return link_; }
   const std::string& slave_name() const { return slave_name_; }
 

@@ -34,6 +34,8 @@ class SerialPort {
   // Waits up to timeout_ms for bytes. kDisconnected when the device went away
   // (EIO, ENXIO, ENODEV, hang-up): the caller closes and reopens.
   ReadResult Read(uint8_t* buf, size_t capacity, int timeout_ms);
+  // Writes all bytes, waiting up to timeout_ms for room; false with *error otherwise.
+  bool Write(const uint8_t* data, size_t n, int timeout_ms, std::string* error);
 
  private:
   int fd_ = -1;

@@ -18,10 +18,11 @@ namespace imu_driver {
 struct SerialReaderConfig {
   std::string port = "/dev/ttyUSB0";
   int baud = 115200;
-  double retry_initial_s = 0.1;  // first wait after a failed open
-  double retry_max_s = 2.0;      // backoff doubles up to this
-  int read_timeout_ms = 50;      // how often the loop checks for Stop()
-  StreamConfig stream;           // its baud is overwritten with `baud`
+  double retry_initial_s = 0.1;           // first wait after a failed open
+  double retry_max_s = 2.0;               // backoff doubles up to this
+  int read_timeout_ms = 50;               // how often the loop checks for Stop()
+  bool request_config_on_connect = true;  // send kReqConfig so the IMU reports its rate and ranges
+  StreamConfig stream;                    // its baud is overwritten with `baud`
 };
 
 // Thread-safe copy of what diagnostics need.
@@ -70,6 +71,7 @@ class SerialReader {
   std::thread thread_;
   mutable std::mutex status_mutex_;  // status_ is written by the I/O thread, read by diagnostics
   SerialReaderStatus status_;
+  std::string device_problem_;  // last CheckDeviceInfo result, logged when it changes
 };
 
 }  // namespace imu_driver
