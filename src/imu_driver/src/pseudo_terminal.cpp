@@ -49,6 +49,13 @@ void PseudoTerminal::Write(const uint8_t* d, size_t n) {
   }
 }
 
+bool PseudoTerminal::WriteIfRoom(const uint8_t* data, size_t n) {
+  pollfd p{master_, POLLOUT, 0};
+  if (master_ < 0 || ::poll(&p, 1, 0) <= 0 || !(p.revents & POLLOUT)) return false;
+  Write(data, n);
+  return true;
+}
+
 size_t PseudoTerminal::Read(uint8_t* buf, size_t capacity, int timeout_ms) {
   pollfd p{master_, POLLIN, 0};
   if (master_ < 0 || ::poll(&p, 1, timeout_ms) <= 0 || !(p.revents & POLLIN)) return 0;

@@ -7,7 +7,9 @@
 //
 // Then: rosrun imu_driver imu_driver_node _port:=/tmp/crista
 #include <Eigen/Geometry>
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -20,6 +22,11 @@
 #include "imu_driver/pseudo_terminal.h"
 
 namespace {
+
+// SIGINT/SIGTERM (roslaunch shutdown) end the loop so the pty's link is removed:
+// a stale link would later point at whatever pty reuses the number.
+std::atomic<bool> g_stop{false};
+void OnSignal(int) { g_stop = true; }
 
 Eigen::Vector3d ParseVector(const std::string& s) {
   Eigen::Vector3d v = Eigen::Vector3d::Zero();
@@ -62,6 +69,8 @@ int main(int argc, char** argv) {
   std::normal_distribution<double> n(0.0, 1.0);
   std::uniform_real_distribution<double> u(0.0, 1.0);
 
+  std::signal(SIGINT, OnSignal);
+  std::signal(SIGTERM, OnSignal);
   imu_driver::PseudoTerminal pty(a["--link"]);
   try {
     pty.Plug();
@@ -74,7 +83,7 @@ int main(int argc, char** argv) {
 
   Eigen::Quaterniond q_world_imu = Eigen::Quaterniond::Identity();
   const auto start = std::chrono::steady_clock::now();
-  for (uint64_t k = 0; seconds <= 0.0 || k < seconds * rate_hz; ++k) {
+  for (uint64_t k = 0; !g_stop && (seconds <= 0.0 || k < seconds * rate_hz); ++k) {
     const double dt = 1.0 / rate_hz;
     const Eigen::Vector3d up_world(0.0, 0.0, 9.81);  // what an accelerometer at rest reads
     imu_driver::ImuSampleSi si;
@@ -90,7 +99,7 @@ int main(int argc, char** argv) {
     std::vector<uint8_t> bytes = imu_driver::EncodeHighSpeedFrame(imu_driver::FromSi(si));
     if (u(rng) < garbage) bytes.insert(bytes.begin(), static_cast<uint8_t>(rng()));
     try {
-      pty.Write(bytes.data(), bytes.size());
+      pty.WriteIfRoom(bytes.data(), bytes.size());  // nobody reading: the sample is lost, as on the wire
     } catch (const std::exception& e) {
       std::fprintf(stderr, "crista_sim: %s\n", e.what());
       return 1;

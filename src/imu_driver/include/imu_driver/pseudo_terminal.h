@@ -22,6 +22,9 @@ class PseudoTerminal {
   void Unplug();
   // Writes everything (blocking). Throws std::runtime_error when the pty is gone.
   void Write(const uint8_t* data, size_t n);
+  // Like a real IMU, which sends whether or not anyone listens: returns false
+  // (and writes nothing) when the pty's buffer is full.
+  bool WriteIfRoom(const uint8_t* data, size_t n);
   // What the reader sent to the device: up to capacity bytes, waiting up to timeout_ms.
   size_t Read(uint8_t* buf, size_t capacity, int timeout_ms);
   const std::string& link() const { return link_; }
