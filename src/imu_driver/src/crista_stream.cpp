@@ -55,6 +55,13 @@ uint64_t CristaStream::UnwrapSequence(uint8_t seq, double arrival_s) {
   return ticks_;
 }
 
+double CristaStream::PpsDeviceTime(const ImuSampleSi& si) {
+  if (have_pps_ && si.pps_count < last_pps_count_) ++pps_wraps_;
+  have_pps_ = true;
+  last_pps_count_ = si.pps_count;
+  return static_cast<double>(pps_wraps_ * 256 + si.pps_count) + si.time_since_pps_s;
+}
+
 void CristaStream::OnFrame(const FrameView& frame) {
   ++counts_.frames_by_type[frame.type];
   if (frame.type != static_cast<uint8_t>(MsgType::kHighSpeedConverted)) {
@@ -74,7 +81,10 @@ void CristaStream::OnFrame(const FrameView& frame) {
   if (!first && s.device_ticks == before) {
     s.stamp_s = last_stamp_s_;  // repeated sequence: no new device time to model
   } else {
-    s.stamp_s = time_sync_.Update(static_cast<double>(s.device_ticks) / config_.rate_hz, s.arrival_s);
+    const double device_s = config_.time_source == StreamConfig::TimeSource::kPps
+                                ? PpsDeviceTime(s.si)
+                                : static_cast<double>(s.device_ticks) / config_.rate_hz;
+    s.stamp_s = time_sync_.Update(device_s, s.arrival_s);
   }
   last_arrival_s_ = s.arrival_s;
   last_stamp_s_ = s.stamp_s;

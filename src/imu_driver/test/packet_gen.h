@@ -2,6 +2,7 @@
 // each kind of corrupt frame, with the counts a correct parser must report.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -122,6 +123,39 @@ inline ScriptedStream MakeScriptedStream(std::mt19937& rng, int num_slots) {
   s.expected.bytes_accepted += f.size();
   append(f);
   s.expected.bytes_in = s.bytes.size();
+  return s;
+}
+
+// Unconstrained fuzz: random bytes (sync bytes over-represented) between frames
+// and inserted inside 10 % of them. valid lists the frames that survive intact.
+struct RandomStream {
+  std::vector<uint8_t> bytes;
+  std::vector<HighSpeedRaw> valid;
+};
+
+inline RandomStream MakeRandomStream(std::mt19937& rng, int num_frames) {
+  RandomStream s;
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto noisy_byte = [&]() -> uint8_t {
+    const double p = u(rng);
+    return p < 0.2 ? 0x55 : p < 0.4 ? 0xAA : p < 0.45 ? 0xFF : p < 0.5 ? 18 : static_cast<uint8_t>(rng());
+  };
+  for (int k = 0; k < num_frames; ++k) {
+    const int gap = u(rng) < 0.5 ? static_cast<int>(rng() % 40) : 0;
+    for (int i = 0; i < gap; ++i) s.bytes.push_back(noisy_byte());
+    std::vector<uint8_t> f;
+    const HighSpeedRaw raw = RandomFrame(rng, static_cast<uint8_t>(k), false, &f);
+    const std::vector<uint8_t> original = f;
+    if (u(rng) < 0.1) {  // random bytes inside the frame: it must not be delivered
+      const size_t at = 1 + rng() % (f.size() - 1);
+      const int n = 1 + static_cast<int>(rng() % 5);
+      for (int i = 0; i < n; ++i) f.insert(f.begin() + static_cast<std::ptrdiff_t>(at), noisy_byte());
+    }
+    // Some insertions leave the frame intact (a copy of the next byte, a 0x55
+    // before the sync): then it is valid and must come out.
+    if (std::search(f.begin(), f.end(), original.begin(), original.end()) != f.end()) s.valid.push_back(raw);
+    s.bytes.insert(s.bytes.end(), f.begin(), f.end());
+  }
   return s;
 }
 

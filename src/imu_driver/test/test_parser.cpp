@@ -147,29 +147,9 @@ TEST(ParserFuzz, ScriptedCorruptionExactCounts) {
 // byte is accounted for.
 TEST(ParserFuzz, RandomGarbageNothingValidLost) {
   std::mt19937 rng(99);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  auto noisy_byte = [&]() -> uint8_t {
-    const double p = u(rng);
-    return p < 0.2 ? 0x55 : p < 0.4 ? 0xAA : p < 0.45 ? 0xFF : p < 0.5 ? 18 : static_cast<uint8_t>(rng());
-  };
-  std::vector<uint8_t> stream;
-  std::vector<HighSpeedRaw> valid;
-  for (int k = 0; k < 20000; ++k) {
-    const int gap = u(rng) < 0.5 ? static_cast<int>(rng() % 40) : 0;
-    for (int i = 0; i < gap; ++i) stream.push_back(noisy_byte());
-    std::vector<uint8_t> f;
-    const HighSpeedRaw raw = test::RandomFrame(rng, static_cast<uint8_t>(k), false, &f);
-    const std::vector<uint8_t> original = f;
-    if (u(rng) < 0.1) {  // random bytes inside the frame: it must not be delivered
-      const size_t at = 1 + rng() % (f.size() - 1);
-      const int n = 1 + static_cast<int>(rng() % 5);
-      for (int i = 0; i < n; ++i) f.insert(f.begin() + static_cast<std::ptrdiff_t>(at), noisy_byte());
-    }
-    // Some insertions leave the frame intact (a copy of the next byte, a 0x55
-    // before the sync): then it is valid and must come out.
-    if (std::search(f.begin(), f.end(), original.begin(), original.end()) != f.end()) valid.push_back(raw);
-    stream.insert(stream.end(), f.begin(), f.end());
-  }
+  const test::RandomStream r = test::MakeRandomStream(rng, 20000);
+  const std::vector<uint8_t>& stream = r.bytes;
+  const std::vector<HighSpeedRaw>& valid = r.valid;
   Collector c;
   for (size_t i = 0; i < stream.size();) {
     const size_t n = std::min<size_t>(1 + rng() % 200, stream.size() - i);

@@ -97,6 +97,24 @@ TEST_F(PtyDriverTest, MissingPortRetriesThenFuzzedStreamIsDecodedExactly) {
   EXPECT_TRUE(st.last_error.empty());
 }
 
+TEST_F(PtyDriverTest, RandomBytesBetweenAndInsideFramesAt100Hz) {
+  test::PtyWriter imu(config_.port);
+  imu.Plug();
+  StartReader();
+  ASSERT_TRUE(test::WaitFor([&] { return reader_->status().connected; }));
+  std::mt19937 rng(23);
+  const test::RandomStream s = test::MakeRandomStream(rng, 300);
+  imu.WritePaced(s.bytes, s.bytes.size() / 300 + 1);  // about one frame and its noise every 10 ms
+  ASSERT_TRUE(test::WaitFor([&] { return reader_->status().parser.bytes_in == s.bytes.size(); }));
+  imu.Unplug();  // the stream ends: whatever is pending is resolved
+  ASSERT_TRUE(test::WaitFor([&] { return reader_->status().disconnects == 1; }));
+  EXPECT_EQ(NumSamples(), s.valid.size());
+  ExpectSamples(0, s.valid);
+  const ParserCounts p = reader_->status().parser;
+  EXPECT_EQ(p.bytes_accepted + p.garbage_bytes, p.bytes_in);
+  EXPECT_GT(p.bad_crc + p.bad_length + p.truncated, 10u);
+}
+
 TEST_F(PtyDriverTest, UnplugAndReplugRecoversWithoutRestart) {
   test::PtyWriter imu(config_.port);
   imu.Plug();

@@ -17,6 +17,11 @@ namespace imu_driver {
 struct StreamConfig {
   int baud = 115200;
   double rate_hz = 100.0;  // nominal output rate: the tick of the sequence clock
+  // The device clock the timestamps are modelled on: the sequence counter
+  // (ticks / rate_hz; the rig has no GPS), or the PPS fields (PPS count +
+  // time since PPS), which follow a GPS pulse when one is wired to the IMU.
+  enum class TimeSource { kSequence, kPps };
+  TimeSource time_source = TimeSource::kSequence;
   TimeSyncConfig time_sync;
 };
 
@@ -55,6 +60,7 @@ class CristaStream {
  private:
   void OnFrame(const FrameView& frame);
   uint64_t UnwrapSequence(uint8_t seq, double arrival_s);
+  double PpsDeviceTime(const ImuSampleSi& si);
 
   StreamConfig config_;
   SampleCallback on_sample_;
@@ -68,6 +74,9 @@ class CristaStream {
   uint64_t ticks_ = 0;
   double last_arrival_s_ = 0.0;
   double last_stamp_s_ = 0.0;
+  bool have_pps_ = false;
+  uint8_t last_pps_count_ = 0;
+  uint64_t pps_wraps_ = 0;  // the PPS count is 8-bit: it wraps every 256 s
 };
 
 }  // namespace imu_driver

@@ -49,6 +49,13 @@ DriverConfig LoadConfig(const ros::NodeHandle& pnh) {
   r.retry_initial_s = PositiveParam(pnh, "retry_initial_s", 0.1);
   r.retry_max_s = PositiveParam(pnh, "retry_max_s", 2.0);
   if (r.retry_max_s < r.retry_initial_s) Refuse(pnh, "retry_max_s", "must be >= retry_initial_s");
+  std::string time_source;
+  pnh.param<std::string>("time_source", time_source, "sequence");
+  if (time_source == "pps") {
+    r.stream.time_source = StreamConfig::TimeSource::kPps;
+  } else if (time_source != "sequence") {
+    Refuse(pnh, "time_source", "must be 'sequence' or 'pps', got '" + time_source + "'");
+  }
   TimeSyncConfig& ts = r.stream.time_sync;
   ts.slack_ppm = PositiveParam(pnh, "time_sync/slack_ppm", ts.slack_ppm);
   ts.window_s = PositiveParam(pnh, "time_sync/window_s", ts.window_s);
