@@ -8,9 +8,8 @@
 
 namespace imu_driver {
 
-void DriverDiagnostics::Fill(const SerialReaderStatus& st, const DriverConfig& config, bool calibrated,
-                             const Eigen::Vector3d& bias, double now_s,
-                             diagnostic_updater::DiagnosticStatusWrapper* s) {
+void DriverDiagnostics::Fill(const SerialReaderStatus& st, const DriverConfig& config, const GyroCalibration& gyro,
+                             double now_s, diagnostic_updater::DiagnosticStatusWrapper* s) {
   using diagnostic_msgs::DiagnosticStatus;
   const ParserCounts& p = st.parser;
   const uint64_t rejects = p.bad_crc + p.bad_length + p.unknown_type + p.truncated;
@@ -59,8 +58,9 @@ void DriverDiagnostics::Fill(const SerialReaderStatus& st, const DriverConfig& c
                                                             std::to_string(dev.accel_range_g) + " g"
                                                       : "not reported");
   s->add("IMU software", dev.software_version.empty() ? "not reported" : dev.software_version);
-  s->add("gyro calibrated", calibrated);
-  s->addf("gyro bias (rad/s)", "%.6f %.6f %.6f", bias(0), bias(1), bias(2));
+  s->add("gyro calibrated", gyro.calibrated);
+  s->addf("gyro bias (rad/s)", "%.6f %.6f %.6f", gyro.bias_rad_s(0), gyro.bias_rad_s(1), gyro.bias_rad_s(2));
+  s->addf("gyro noise sigma (rad/s)", "%.6f %.6f %.6f", gyro.sigma_rad_s(0), gyro.sigma_rad_s(1), gyro.sigma_rad_s(2));
 }
 
 }  // namespace imu_driver

@@ -4,6 +4,7 @@
 
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
 
+#include "imu_driver/calibration_session.h"
 #include "imu_driver/driver_config.h"
 #include "imu_driver/serial_reader.h"
 
@@ -12,8 +13,8 @@ namespace imu_driver {
 class DriverDiagnostics {
  public:
   // now_s is on the same clock as the samples' arrival times.
-  void Fill(const SerialReaderStatus& st, const DriverConfig& config, bool calibrated, const Eigen::Vector3d& bias,
-            double now_s, diagnostic_updater::DiagnosticStatusWrapper* s);
+  void Fill(const SerialReaderStatus& st, const DriverConfig& config, const GyroCalibration& gyro, double now_s,
+            diagnostic_updater::DiagnosticStatusWrapper* s);
 
  private:
   uint64_t last_rejects_ = 0;

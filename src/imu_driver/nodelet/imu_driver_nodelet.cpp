@@ -36,7 +36,8 @@ class ImuDriverNodelet : public nodelet::Nodelet {
       NODELET_FATAL("imu_driver not started: %s", e.what());
       return;
     }
-    calibration_ = std::make_unique<CalibrationSession>(config_.gyro_bias_rad_s, config_.gyro_bias_calibrated);
+    calibration_ = std::make_unique<CalibrationSession>(
+        GyroCalibration{config_.gyro_bias_rad_s, config_.gyro_noise_sigma_rad_s, config_.gyro_bias_calibrated});
     imu_pub_ = nh.advertise<sensor_msgs::Imu>("imu/data_raw", 100);
     calibrated_pub_ = nh.advertise<std_msgs::Bool>("imu/is_calibrated", 1, true);
     PublishCalibrated();
@@ -51,8 +52,7 @@ class ImuDriverNodelet : public nodelet::Nodelet {
         diagnostic_updater::FrequencyStatusParam(&min_rate_, &max_rate_, 0.0, 5), "imu/data_raw rate");
     updater_->add(*rate_diag_);
     updater_->add("Crista IMU", [this](diagnostic_updater::DiagnosticStatusWrapper& s) {
-      diagnostics_.Fill(reader_->status(), config_, calibration_->calibrated(), calibration_->bias_rad_s(),
-                        ros::Time::now().toSec(), &s);
+      diagnostics_.Fill(reader_->status(), config_, calibration_->current(), ros::Time::now().toSec(), &s);
     });
     diag_timer_ =
         nh.createWallTimer(ros::WallDuration(0.25), [this](const ros::WallTimerEvent&) { updater_->update(); });
@@ -71,7 +71,7 @@ class ImuDriverNodelet : public nodelet::Nodelet {
   void OnSample(const ImuSample& s) {
     if (const auto result = calibration_->Add(s)) OnCalibrationDone(*result);
     auto msg = boost::make_shared<sensor_msgs::Imu>();
-    FillImuMessage(s, config_, calibration_->bias_rad_s(), msg.get());
+    FillImuMessage(s, config_, calibration_->current(), msg.get());
     imu_pub_.publish(msg);
     rate_diag_->tick();
   }
@@ -97,7 +97,7 @@ class ImuDriverNodelet : public nodelet::Nodelet {
 
   void PublishCalibrated() {
     std_msgs::Bool b;
-    b.data = calibration_->calibrated();
+    b.data = calibration_->current().calibrated;
     calibrated_pub_.publish(b);
   }
 

@@ -29,20 +29,13 @@ std::optional<GyroBiasResult> CalibrationSession::Add(const ImuSample& s) {
   if (s.stamp_s - start_stamp_s_ < duration_s_) return std::nullopt;
   running_ = false;
   GyroBiasResult r = estimator_.Compute();
-  if (r.ok) {
-    bias_rad_s_ = r.bias_rad_s;
-    calibrated_ = true;
-  }
+  if (r.ok) current_ = GyroCalibration{r.bias_rad_s, r.sigma_rad_s, true};
   return r;
 }
 
-Eigen::Vector3d CalibrationSession::bias_rad_s() const {
+GyroCalibration CalibrationSession::current() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return bias_rad_s_;
-}
-bool CalibrationSession::calibrated() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return calibrated_;
+  return current_;
 }
 bool CalibrationSession::running() const {
   std::lock_guard<std::mutex> lock(mutex_);

@@ -67,6 +67,13 @@ GyroBiasResult GyroBiasEstimator::Compute() const {
   }
   r.bias_rad_s = sum / r.samples;
   r.sigma_rad_s = (within_ss / dof).cwiseSqrt();
+  if (r.bias_rad_s.cwiseAbs().maxCoeff() > config_.max_bias_rad_s) {
+    std::ostringstream m;
+    m << "the IMU seems to be turning: mean rate [" << r.bias_rad_s.transpose() << "] rad/s exceeds the "
+      << config_.max_bias_rad_s << " rad/s a bias can be";
+    r.message = m.str();
+    return r;
+  }
   r.ok = true;
   std::ostringstream m;
   m << "bias [" << r.bias_rad_s.transpose() << "] rad/s, sigma [" << r.sigma_rad_s.transpose() << "] rad/s from "

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 
+#include "imu_driver/calibration_session.h"
 #include "imu_driver/camera_imu_rotation.h"
 #include "imu_driver/gyro_bias.h"
 #include "pose_math/rotation.h"
@@ -65,6 +66,39 @@ TEST(GyroBias, SplitsOrientationsByGravityAndRefusesMotion) {
   EXPECT_FALSE(empty.Compute().ok);
   empty.Add(Eigen::Vector3d(NAN, 0, 0), Eigen::Vector3d(0, 0, 9.81));  // ignored
   EXPECT_EQ(empty.samples(), 0u);
+}
+
+TEST(GyroBias, ConstantRotationAboutGravityIsRefused) {
+  GyroBiasEstimator est;
+  for (int k = 0; k < 500; ++k) est.Add(Eigen::Vector3d(0, 0, 0.3), Eigen::Vector3d(0, 0, 9.81));
+  const GyroBiasResult r = est.Compute();
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("turning"), std::string::npos);
+}
+
+TEST(CalibrationSession, CollectsForTheSpanThenReplacesBiasAndSigma) {
+  CalibrationSession session({Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(0.5, 0.5, 0.5), false});
+  std::string msg;
+  ImuSample s;
+  s.si.accel_imu_m_s2 = {0.0, 0.0, 9.81};
+  EXPECT_FALSE(session.Add(s).has_value());  // not running: ignored
+  ASSERT_TRUE(session.Start(1.0, &msg));
+  EXPECT_FALSE(session.Start(1.0, &msg));  // one at a time
+  EXPECT_NE(msg.find("already"), std::string::npos);
+  std::optional<GyroBiasResult> result;
+  for (int k = 0; k <= 100 && !result; ++k) {
+    s.stamp_s = 10.0 + 0.01 * k;
+    s.si.omega_imu_rad_s = {0.02 + ((k % 2) ? 0.001 : -0.001), -0.01, 0.005};
+    result = session.Add(s);
+  }
+  ASSERT_TRUE(result.has_value());
+  ASSERT_TRUE(result->ok) << result->message;
+  const GyroCalibration c = session.current();
+  EXPECT_TRUE(c.calibrated);
+  EXPECT_NEAR(c.bias_rad_s(0), 0.02, 1e-4);
+  EXPECT_NEAR(c.bias_rad_s(1), -0.01, 1e-12);
+  EXPECT_NEAR(c.sigma_rad_s(0), 0.001, 1e-4);
+  EXPECT_FALSE(session.running());
 }
 
 // Gravity pairs from a known rotation, with accelerometer and extrinsic noise.

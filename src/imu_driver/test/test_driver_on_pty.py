@@ -215,6 +215,10 @@ class ImuDriverPtyTest(unittest.TestCase):
         last = self.msgs[-1].angular_velocity
         for got, o in zip((last.x, last.y, last.z), offset):
             self.assertLess(abs(got), 4 * GYRO_RAD_PER_COUNT, (got, o))
+        # The measured noise replaces the configured sigma in the covariance: the
+        # offsets carry uniform integer noise in [-3, 3] counts, sigma 2 counts.
+        expected_var = (2.0 * GYRO_RAD_PER_COUNT) ** 2
+        self.assertAlmostEqual(self.msgs[-1].angular_velocity_covariance[0] / expected_var, 1.0, delta=0.3)
         with open(path) as f:
             text = f.read()
         self.assertIn("gyro_bias_rad_s", text)

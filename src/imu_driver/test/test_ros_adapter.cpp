@@ -17,10 +17,9 @@ ImuSample Sample() {
 
 TEST(FillImuMessage, Rep145InImuFrame) {
   DriverConfig c;
-  c.gyro_noise_sigma_rad_s = Eigen::Vector3d(0.01, 0.02, 0.03);
   c.accel_noise_sigma_m_s2 = Eigen::Vector3d(0.1, 0.2, 0.3);
   sensor_msgs::Imu m;
-  FillImuMessage(Sample(), c, Eigen::Vector3d(0.01, 0.01, 0.01), &m);
+  FillImuMessage(Sample(), c, {Eigen::Vector3d(0.01, 0.01, 0.01), Eigen::Vector3d(0.01, 0.02, 0.03), true}, &m);
   EXPECT_EQ(m.header.frame_id, "imu");
   EXPECT_DOUBLE_EQ(m.header.stamp.toSec(), 1234.5);
   EXPECT_EQ(m.orientation_covariance[0], -1.0);
@@ -37,11 +36,10 @@ TEST(FillImuMessage, CameraFrameRotatesVectorsAndCovariance) {
   DriverConfig c;
   c.subtract_gyro_bias = false;
   c.publish_in_camera_frame = true;
-  c.gyro_noise_sigma_rad_s = Eigen::Vector3d(0.01, 0.02, 0.03);
   // R_camera_imu: 90 deg about z, so x_imu -> y_camera and y_imu -> -x_camera.
   c.q_camera_imu = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
   sensor_msgs::Imu m;
-  FillImuMessage(Sample(), c, Eigen::Vector3d(1, 1, 1), &m);
+  FillImuMessage(Sample(), c, {Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(0.01, 0.02, 0.03), true}, &m);
   EXPECT_EQ(m.header.frame_id, "camera_optical");
   EXPECT_NEAR(m.angular_velocity.x, 0.2, 1e-12);  // 3.26: ω_C = R ω_I
   EXPECT_NEAR(m.angular_velocity.y, 0.1, 1e-12);

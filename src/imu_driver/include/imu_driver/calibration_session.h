@@ -1,7 +1,7 @@
 // The imu/calibrate service's state: started from a service callback, fed by
 // the I/O thread, finished after a fixed span of sample time. The gyro bias
-// in use is read by the I/O thread for every sample and replaced when a
-// calibration succeeds.
+// and σ in use are read by the I/O thread for every sample and replaced when
+// a calibration succeeds.
 #pragma once
 
 #include <Eigen/Core>
@@ -14,18 +14,24 @@
 
 namespace imu_driver {
 
+// What the published messages use: the bias removed and the σ behind the covariance.
+struct GyroCalibration {
+  Eigen::Vector3d bias_rad_s = Eigen::Vector3d::Zero();
+  Eigen::Vector3d sigma_rad_s = Eigen::Vector3d::Zero();
+  bool calibrated = false;
+};
+
 class CalibrationSession {
  public:
-  CalibrationSession(const Eigen::Vector3d& initial_bias_rad_s, bool calibrated)
-      : bias_rad_s_(initial_bias_rad_s), calibrated_(calibrated) {}
+  CalibrationSession(const GyroCalibration& initial, const GyroBiasConfig& config = GyroBiasConfig())
+      : estimator_(config), current_(initial) {}
 
   // False (with the reason in *message) when one is already running.
   bool Start(double duration_s, std::string* message);
   // Feeds a raw (bias not removed) sample; returns the result once the span is over.
   std::optional<GyroBiasResult> Add(const ImuSample& s);
 
-  Eigen::Vector3d bias_rad_s() const;
-  bool calibrated() const;
+  GyroCalibration current() const;
   bool running() const;
 
  private:
@@ -34,8 +40,7 @@ class CalibrationSession {
   bool running_ = false;
   double duration_s_ = 0.0;
   double start_stamp_s_ = -1.0;  // stamp of the first sample, -1 until it arrives
-  Eigen::Vector3d bias_rad_s_;
-  bool calibrated_;
+  GyroCalibration current_;
 };
 
 }  // namespace imu_driver

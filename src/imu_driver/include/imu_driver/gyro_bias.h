@@ -20,6 +20,9 @@ struct GyroBiasConfig {
   // Orientations are told apart by the direction of gravity: a new one starts
   // when the mean accel direction turns by more than this.
   double new_orientation_deg = 20.0;
+  // A "bias" above this is a turning IMU (a constant rotation about gravity
+  // leaves the accelerometer still): refused. 0.1 rad/s is 5.7 deg/s.
+  double max_bias_rad_s = 0.1;
 };
 
 struct OrientationStats {

@@ -4,6 +4,7 @@
 #include <ros/node_handle.h>
 #include <sensor_msgs/Imu.h>
 
+#include "imu_driver/calibration_session.h"
 #include "imu_driver/driver_config.h"
 #include "imu_driver/gyro_bias.h"
 
@@ -14,9 +15,9 @@ namespace imu_driver {
 DriverConfig LoadConfig(const ros::NodeHandle& pnh);
 
 // REP-145 message: no orientation (orientation_covariance[0] = -1), diagonal
-// covariances from the calibration σ, bias removed when configured, and in
-// the camera frame when configured (3.26).
-void FillImuMessage(const ImuSample& sample, const DriverConfig& config, const Eigen::Vector3d& gyro_bias_rad_s,
+// covariances from the calibration σ (gyro) and the configured accel σ, bias
+// removed when configured, and in the camera frame when configured (3.26).
+void FillImuMessage(const ImuSample& sample, const DriverConfig& config, const GyroCalibration& gyro,
                     sensor_msgs::Imu* msg);
 
 // The YAML the calibration service writes; the keys are the nodelet's

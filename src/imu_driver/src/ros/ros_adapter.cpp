@@ -89,13 +89,13 @@ DriverConfig LoadConfig(const ros::NodeHandle& pnh) {
   return c;
 }
 
-void FillImuMessage(const ImuSample& s, const DriverConfig& config, const Eigen::Vector3d& gyro_bias_rad_s,
+void FillImuMessage(const ImuSample& s, const DriverConfig& config, const GyroCalibration& gyro,
                     sensor_msgs::Imu* msg) {
   msg->header.stamp.fromSec(s.stamp_s);
   Eigen::Vector3d omega(s.si.omega_imu_rad_s[0], s.si.omega_imu_rad_s[1], s.si.omega_imu_rad_s[2]);
   Eigen::Vector3d accel(s.si.accel_imu_m_s2[0], s.si.accel_imu_m_s2[1], s.si.accel_imu_m_s2[2]);
-  if (config.subtract_gyro_bias) omega -= gyro_bias_rad_s;  // 3.27 with v_gyro left in
-  Eigen::Matrix3d cov_omega = config.gyro_noise_sigma_rad_s.cwiseAbs2().asDiagonal();
+  if (config.subtract_gyro_bias) omega -= gyro.bias_rad_s;  // 3.27 with v_gyro left in
+  Eigen::Matrix3d cov_omega = gyro.sigma_rad_s.cwiseAbs2().asDiagonal();
   Eigen::Matrix3d cov_accel = config.accel_noise_sigma_m_s2.cwiseAbs2().asDiagonal();
   msg->header.frame_id = config.frame_id;
   if (config.publish_in_camera_frame) {
