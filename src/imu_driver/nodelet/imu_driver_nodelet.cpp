@@ -23,7 +23,11 @@ namespace imu_driver {
 class ImuDriverNodelet : public nodelet::Nodelet {
  public:
   ~ImuDriverNodelet() override {
-    if (reader_) reader_->Stop();  // joins the I/O thread before members it uses go away
+    // Callbacks that use reader_ and the publishers stop first: the timer and
+    // service (stop() waits for a running callback), then the I/O thread (joined).
+    diag_timer_.stop();
+    calibrate_srv_.shutdown();
+    if (reader_) reader_->Stop();
   }
 
  private:
