@@ -25,6 +25,8 @@ PACKAGES=(
   libassimp-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libgles-dev xvfb
   # reports
   python3-numpy python3-matplotlib python3-yaml
+  # imu_driver: calibration input YAML, python rostest messages, real-data test (.mat files)
+  libyaml-cpp-dev python3-std-msgs python3-sensor-msgs python3-std-srvs python3-diagnostic-msgs python3-scipy
 )
 
 if [[ "${1:-}" == "--print" ]]; then

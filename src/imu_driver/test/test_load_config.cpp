@@ -1,0 +1,72 @@
+// LoadConfig against a real parameter server (run by rostest): values arrive,
+// bad ones are refused with the parameter's name.
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+
+#include "imu_driver/ros_adapter.h"
+
+namespace imu_driver {
+namespace {
+
+std::string RefusalOf(const ros::NodeHandle& pnh) {
+  try {
+    LoadConfig(pnh);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(LoadConfig, DefaultsAndValues) {
+  ros::NodeHandle pnh("~defaults");
+  const DriverConfig d = LoadConfig(pnh);
+  EXPECT_EQ(d.reader.port, "/dev/ttyUSB0");
+  EXPECT_EQ(d.reader.baud, 115200);
+  EXPECT_EQ(d.frame_id, "imu");
+  EXPECT_FALSE(d.gyro_bias_calibrated);
+  EXPECT_FALSE(d.publish_in_camera_frame);
+
+  ros::NodeHandle set("~set");
+  set.setParam("port", "/dev/ttyS3");
+  set.setParam("baud", 57600);
+  set.setParam("frame_id", "crista");
+  set.setParam("time_source", "pps");
+  set.setParam("gyro_bias_rad_s", std::vector<double>{0.1, 0.2, 0.3});
+  set.setParam("publish_in_camera_frame", true);
+  set.setParam("camera_imu/rotation_xyzw", std::vector<double>{0.0, 0.0, 0.7071068, 0.7071068});
+  const DriverConfig c = LoadConfig(set);
+  EXPECT_EQ(c.reader.port, "/dev/ttyS3");
+  EXPECT_EQ(c.reader.baud, 57600);
+  EXPECT_EQ(c.frame_id, "crista");
+  EXPECT_EQ(c.reader.stream.time_source, StreamConfig::TimeSource::kPps);
+  EXPECT_TRUE(c.gyro_bias_calibrated);
+  EXPECT_DOUBLE_EQ(c.gyro_bias_rad_s(2), 0.3);
+  EXPECT_NEAR(c.q_camera_imu.w(), std::sqrt(0.5), 1e-6);
+}
+
+TEST(LoadConfig, BadValuesAreRefusedByName) {
+  ros::NodeHandle a("~bad_baud");
+  a.setParam("baud", 12345);
+  EXPECT_NE(RefusalOf(a).find("bad_baud/baud"), std::string::npos) << RefusalOf(a);
+  ros::NodeHandle b("~bad_sigma");
+  b.setParam("gyro_noise_sigma_rad_s", std::vector<double>{0.1, -0.2, 0.3});
+  EXPECT_NE(RefusalOf(b).find("gyro_noise_sigma_rad_s"), std::string::npos);
+  ros::NodeHandle c("~bad_rate");
+  c.setParam("rate_hz", 0.0);
+  EXPECT_NE(RefusalOf(c).find("rate_hz"), std::string::npos);
+  ros::NodeHandle d("~camera_without_rotation");
+  d.setParam("publish_in_camera_frame", true);
+  EXPECT_NE(RefusalOf(d).find("camera_imu/rotation_xyzw"), std::string::npos);
+  ros::NodeHandle e("~bad_source");
+  e.setParam("time_source", "gps");
+  EXPECT_NE(RefusalOf(e).find("time_source"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace imu_driver
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_load_config");
+  return RUN_ALL_TESTS();
+}

@@ -1,0 +1,100 @@
+// calibrate_camera_imu: the camera–IMU rotation of thesis 3.2.2 from a YAML of
+// static poses, written as the YAML that camera_imu_tf.launch publishes as a
+// static tf (and that the driver reads for publish_in_camera_frame).
+//
+// Input (one entry per static pose of the camera calibration):
+//   up_in_grid: [0, 0, -1]          # accelerometer-at-rest direction in the grid frame
+//   poses:
+//     - accel_mean_m_s2: [0.1, -0.2, 9.8]         # from gyro_bias_report.py --segments
+//       R_camera_grid_rvec: [0.1, 0.2, 0.3]       # OpenCV calibrateCamera rvec (Rodrigues)
+//     - accel_mean_m_s2: [...]
+//       q_camera_grid_xyzw: [0, 0, 0, 1]          # or a quaternion
+// Usage: calibrate_camera_imu input.yaml output.yaml [parent_frame child_frame]
+#include <yaml-cpp/yaml.h>
+
+#include <Eigen/Geometry>
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
+
+#include "imu_driver/camera_imu_rotation.h"
+#include "pose_math/rotation.h"
+
+namespace {
+
+Eigen::Vector3d Vec3(const YAML::Node& n, const char* what) {
+  if (!n || !n.IsSequence() || n.size() != 3) throw std::runtime_error(std::string(what) + " must be [x, y, z]");
+  return Eigen::Vector3d(n[0].as<double>(), n[1].as<double>(), n[2].as<double>());
+}
+
+Eigen::Matrix3d CameraFromGrid(const YAML::Node& pose) {
+  if (pose["R_camera_grid_rvec"]) {
+    const Eigen::Vector3d r = Vec3(pose["R_camera_grid_rvec"], "R_camera_grid_rvec");
+    return pose_math::RotationFromAngleAxis({r.norm(), r.norm() > 0 ? r.normalized() : Eigen::Vector3d::UnitX()});
+  }
+  const YAML::Node q = pose["q_camera_grid_xyzw"];
+  if (!q || q.size() != 4) throw std::runtime_error("each pose needs R_camera_grid_rvec or q_camera_grid_xyzw");
+  return Eigen::Quaterniond(q[3].as<double>(), q[0].as<double>(), q[1].as<double>(), q[2].as<double>())
+      .normalized()
+      .toRotationMatrix();
+}
+
+void WriteQuat(std::ostream& out, const char* key, const Eigen::Matrix3d& R) {
+  const Eigen::Quaterniond q(R);
+  out << "  " << key << ": [" << q.x() << ", " << q.y() << ", " << q.z() << ", " << q.w() << "]\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 3 && argc != 5) {
+    std::fprintf(stderr, "usage: calibrate_camera_imu input.yaml output.yaml [parent_frame child_frame]\n");
+    return 2;
+  }
+  const std::string parent = argc == 5 ? argv[3] : "camera_optical";
+  const std::string child = argc == 5 ? argv[4] : "imu";
+  std::vector<imu_driver::GravityPair> pairs;
+  try {
+    const YAML::Node in = YAML::LoadFile(argv[1]);
+    const Eigen::Vector3d up_in_grid =
+        in["up_in_grid"] ? Vec3(in["up_in_grid"], "up_in_grid") : Eigen::Vector3d(0, 0, -1);
+    for (const YAML::Node& pose : in["poses"]) {
+      pairs.push_back(imu_driver::MakeGravityPair(Vec3(pose["accel_mean_m_s2"], "accel_mean_m_s2"),
+                                                  CameraFromGrid(pose), up_in_grid));
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "calibrate_camera_imu: %s: %s\n", argv[1], e.what());
+    return 1;
+  }
+  const imu_driver::RotationFit svd = imu_driver::FitRotationSvd(pairs);
+  if (!svd.ok) {
+    std::fprintf(stderr, "calibrate_camera_imu: %s\n", svd.message.c_str());
+    return 1;
+  }
+  const imu_driver::RotationFit euler = imu_driver::FitRotationEuler(pairs);
+  const double disagreement_deg =
+      pose_math::AngleAxisFromRotation(svd.R_camera_imu.transpose() * euler.R_camera_imu).angle_rad * 180.0 / M_PI;
+  std::ofstream out(argv[2]);
+  out << std::setprecision(10);
+  out << "# Camera-IMU rotation (thesis 3.2.2) from " << pairs.size() << " static poses, by calibrate_camera_imu.\n"
+      << "# The translation is set to zero as in the thesis (coincident origins).\n"
+      << "camera_imu:\n"
+      << "  parent_frame: " << parent << "\n  child_frame: " << child << "\n"
+      << "  translation_m: [0.0, 0.0, 0.0]\n";
+  WriteQuat(out, "rotation_xyzw", svd.R_camera_imu);
+  out << "  method: svd_of_moment_matrix  # 3.32-3.34\n"
+      << "  rms_residual_deg: " << svd.rms_residual_deg << "\n";
+  WriteQuat(out, "euler_minimisation_rotation_xyzw", euler.R_camera_imu);
+  out << "  euler_minimisation_rms_residual_deg: " << euler.rms_residual_deg << "  # 3.31\n"
+      << "  svd_vs_euler_deg: " << disagreement_deg << "\n"
+      << "  poses: " << pairs.size() << "\n";
+  if (!out) {
+    std::fprintf(stderr, "calibrate_camera_imu: cannot write %s\n", argv[2]);
+    return 1;
+  }
+  std::printf(
+      "R_camera_imu by SVD: rms residual %.4f deg; by Euler minimisation: %.4f deg (%d iterations); "
+      "the two differ by %.5f deg\n",
+      svd.rms_residual_deg, euler.rms_residual_deg, euler.iterations, disagreement_deg);
+  return 0;
+}
