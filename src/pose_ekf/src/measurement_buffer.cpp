@@ -27,6 +27,7 @@ const char* ToString(AddResult r) {
     case AddResult::kWaitingForCamera: return "waiting for camera";
     case AddResult::kDroppedLate: return "dropped (late)";
     case AddResult::kRejectedNonFinite: return "rejected (non-finite)";
+    case AddResult::kRejectedInvalid: return "rejected (invalid)";
   }
   return "?";
 }

@@ -21,6 +21,7 @@ enum class AddResult {
   kWaitingForCamera,   // IMU sample kept until the first camera pose arrives
   kDroppedLate,        // older than max_delay_s behind the newest stamp (or before initialisation)
   kRejectedNonFinite,  // NaN/inf in the message
+  kRejectedInvalid,    // refused by the adapter: wrong frame, bad covariance, no data
 };
 const char* ToString(AddResult r);
 
