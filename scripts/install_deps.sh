@@ -19,6 +19,8 @@ PACKAGES=(
   librviz-dev rviz
   # pose_ekf rostest (python Odometry messages)
   python3-nav-msgs
+  # pose_ekf real-data test (BROAD .mat files)
+  libmatio-dev
   # maths and vision
   libeigen3-dev libceres-dev libopencv-dev libsdp-dev
   # GigE camera (Aravis 0.8; its pkg-config needs libusb)

@@ -30,6 +30,9 @@ std::string EkfConfig::Validate() const {
   Check(err, "init_sigma_v_m_s", init_sigma_v_m_s, 0.0, false);
   Check(err, "init_sigma_a_m_s2", init_sigma_a_m_s2, 0.0, false);
   Check(err, "init_sigma_gyro_bias_rad_s", init_sigma_gyro_bias_rad_s, 0.0, false);
+  Check(err, "init_sigma_tilt_rad", init_sigma_tilt_rad, 0.0, false);
+  Check(err, "init_sigma_heading_rad", init_sigma_heading_rad, 0.0, false);
+  Check(err, "init_sigma_p_m", init_sigma_p_m, 0.0, false);
   Check(err, "max_delay_s", max_delay_s, 0.0, true);
   Check(err, "time_jump_reset_s", time_jump_reset_s, 0.0, false);
   Check(err, "max_predict_step_s", max_predict_step_s, 0.0, false);

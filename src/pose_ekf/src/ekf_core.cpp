@@ -1,5 +1,7 @@
 #include "pose_ekf/ekf_core.h"
 
+#include "pose_math/covariance.h"
+
 #include <Eigen/Cholesky>
 #include <cmath>
 #include <stdexcept>
@@ -54,11 +56,41 @@ bool EkfCore::Initialize(const CameraMeasurement& m) {
   s_.P.block<4, 3>(kQ, kP) = m.cov.topRightCorner<4, 3>();
   s_.P.block<3, 4>(kP, kQ) = m.cov.bottomLeftCorner<3, 4>();
   s_.P.block<3, 3>(kP, kP) = m.cov.bottomRightCorner<3, 3>();
+  InitializeUnmeasured(n);
+  s_.P = 0.5 * (s_.P + s_.P.transpose()).eval();
+  initialized_ = true;
+  return true;
+}
+
+void EkfCore::InitializeUnmeasured(int n) {
   auto set_diag = [&](int i, double sigma) { s_.P.block<3, 3>(i, i) = sigma * sigma * Eigen::Matrix3d::Identity(); };
   set_diag(kW, config_.init_sigma_omega_rad_s);
   set_diag(kV, config_.init_sigma_v_m_s);
   set_diag(kA, config_.init_sigma_a_m_s2);
   if (n > kBaseStates) set_diag(kB, config_.init_sigma_gyro_bias_rad_s);
+}
+
+bool EkfCore::InitializeFromGravity(double stamp_s, const Eigen::Vector3d& f) {
+  if (!f.allFinite() || !std::isfinite(stamp_s) || f.norm() < 1e-3) return false;
+  if (config_.accel_gate_m_s2 > 0.0 && std::abs(f.norm() - config_.gravity_m_s2) > config_.accel_gate_m_s2) {
+    return false;  // moving: wait for a sample that measures gravity only (5.34)
+  }
+  // R(q) f/|f| = e_z: the specific force points up in the cones frame.
+  const pose_math::Quat q =
+      pose_math::ThesisFromEigen(Eigen::Quaterniond::FromTwoVectors(f.normalized(), Eigen::Vector3d::UnitZ()));
+  const int n = StateSize(config_);
+  s_.stamp_s = stamp_s;
+  s_.x = StateVector::Zero(n);
+  s_.x.segment<4>(kQ) = q;
+  s_.P = StateMatrix::Zero(n, n);
+  // Fixed-axis (cones frame) perturbation: small tilt about x, y; heading about z unknown.
+  const Eigen::Matrix<double, 4, 3> G = pose_math::RotationPerturbationToQuat(q);
+  const Eigen::Vector3d var(config_.init_sigma_tilt_rad * config_.init_sigma_tilt_rad,
+                            config_.init_sigma_tilt_rad * config_.init_sigma_tilt_rad,
+                            config_.init_sigma_heading_rad * config_.init_sigma_heading_rad);
+  s_.P.block<4, 4>(kQ, kQ) = G * var.asDiagonal() * G.transpose();
+  s_.P.block<3, 3>(kP, kP) = config_.init_sigma_p_m * config_.init_sigma_p_m * Eigen::Matrix3d::Identity();
+  InitializeUnmeasured(n);
   s_.P = 0.5 * (s_.P + s_.P.transpose()).eval();
   initialized_ = true;
   return true;

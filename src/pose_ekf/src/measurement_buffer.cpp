@@ -104,6 +104,13 @@ AddResult MeasurementBuffer::Add(Entry e) {
   }
   if (!ekf_.initialized()) {
     if (e.is_camera && config_.use_camera) return InitializeFrom(e);
+    if (!e.is_camera && config_.init_from_gravity && e.imu.has_accel &&
+        ekf_.InitializeFromGravity(e.stamp_s, e.imu.accel_camera_m_s2)) {
+      counters_.dropped_late += history_.size();  // older than the start
+      history_.clear();
+      base_ = ekf_.state();
+      return AddResult::kInitialized;
+    }
     if (!e.is_camera) {
       history_.insert(std::upper_bound(history_.begin(), history_.end(), e, Before), std::move(e));
       Trim();

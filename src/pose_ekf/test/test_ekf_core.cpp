@@ -195,6 +195,20 @@ TEST_P(CovarianceTest, StaysSymmetricPsd) {
 
 INSTANTIATE_TEST_SUITE_P(StandardAndJoseph, CovarianceTest, ::testing::Bool());
 
+TEST(EkfCore, InitializesFromGravityForImuOnlyUse) {
+  EkfConfig c;
+  c.init_from_gravity = true;
+  EkfCore ekf{c};
+  const Eigen::Vector3d f_camera(1.0, -9.0, 3.0);
+  EXPECT_FALSE(ekf.InitializeFromGravity(0.0, 2.0 * f_camera));  // |a| far from g: moving (5.34)
+  const Eigen::Vector3d f = f_camera.normalized() * c.gravity_m_s2;
+  ASSERT_TRUE(ekf.InitializeFromGravity(0.5, f));
+  const Eigen::Matrix3d R = pose_math::RotationFromQuat(ekf.Pose().pose.q);
+  EXPECT_LT((R * f.normalized() - Eigen::Vector3d::UnitZ()).norm(), 1e-12);  // specific force points up
+  EXPECT_DOUBLE_EQ(ekf.state().stamp_s, 0.5);
+  EXPECT_GT(MinEigenvalue(ekf.state().P.bottomRightCorner(9, 9)), 0.0);
+}
+
 TEST(EkfConfig, InvalidValuesAreNamed) {
   EkfConfig c;
   c.sigma_gyro_rad_s = -1.0;

@@ -47,6 +47,14 @@ struct EkfConfig {
   double init_sigma_a_m_s2 = 2.0;
   double init_sigma_gyro_bias_rad_s = 0.02;
 
+  // IMU-only (orientation-only) operation: initialise from the first
+  // accelerometer sample near g (tilt; heading 0) instead of waiting for a camera
+  // pose. Use with accel_mode = kOrientation, as no position is observed.
+  bool init_from_gravity = false;
+  double init_sigma_tilt_rad = 0.05;
+  double init_sigma_heading_rad = 0.1;  // arbitrary heading, but a 4D quaternion covariance must stay small to stay linear
+  double init_sigma_p_m = 1.0;
+
   // Measurement buffer (6.3).
   double max_delay_s = 0.2;          // camera frames up to this late are applied at their stamp
   double time_jump_reset_s = 0.5;    // an IMU stamp this far behind the last one is a time jump: reset

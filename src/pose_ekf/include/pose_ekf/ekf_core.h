@@ -33,6 +33,10 @@ class EkfCore {
   // From the first accepted camera pose and its covariance. Returns false (and
   // stays uninitialised) for a non-finite measurement.
   bool Initialize(const CameraMeasurement& m);
+  // IMU-only start (EkfConfig::init_from_gravity): roll and pitch from the
+  // specific force, heading 0, position 0. False unless |a| is within the
+  // accelerometer gate of g (or finite, with the gate off).
+  bool InitializeFromGravity(double stamp_s, const Eigen::Vector3d& accel_camera_m_s2);
   void Reset() { initialized_ = false; }
   bool initialized() const { return initialized_; }
 
@@ -61,6 +65,7 @@ class EkfCore {
                       const Eigen::Matrix<double, M, Eigen::Dynamic, 0, M, kMaxStates>& H,
                       const Eigen::Matrix<double, M, M>& R, double* nis);
   void PredictStep(double dt_s);
+  void InitializeUnmeasured(int n);
 
   EkfConfig config_;
   FilterState s_;
