@@ -71,7 +71,8 @@ class DenseReferenceEkf {
   void Imu(const pose_ekf::ImuMeasurement& m) {
     Eigen::MatrixXd Hg = Eigen::MatrixXd::Zero(3, 16);
     Hg.block(0, pose_ekf::kW, 3, 3).setIdentity();
-    Update(m.omega_camera_rad_s - Hg * x_, Hg, c_.sigma_gyro_rad_s * c_.sigma_gyro_rad_s * Eigen::MatrixXd::Identity(3, 3));
+    Update(m.omega_camera_rad_s - Hg * x_, Hg,
+           c_.sigma_gyro_rad_s * c_.sigma_gyro_rad_s * Eigen::MatrixXd::Identity(3, 3));
     const pose_ekf::StateVector xs = x_;
     const Eigen::MatrixXd Ha = pose_ekf::AccelJacobian(xs, c_.gravity_m_s2, c_.accel_mode);
     Update(m.accel_camera_m_s2 - pose_ekf::AccelModel(xs, c_.gravity_m_s2, c_.accel_mode), Ha,
@@ -89,7 +90,9 @@ struct Figures {
   std::vector<double> imu_us, camera_us;
 };
 
-void Print(const char* name, double value, const char* unit) { std::printf("BENCH pose_ekf.%s %.3f %s\n", name, value, unit); }
+void Print(const char* name, double value, const char* unit) {
+  std::printf("BENCH pose_ekf.%s %.3f %s\n", name, value, unit);
+}
 
 }  // namespace
 

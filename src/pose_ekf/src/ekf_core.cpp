@@ -21,11 +21,16 @@ void NormalizeQuat(StateVector& x) { x.segment<4>(kQ).normalize(); }  // (5.41)
 
 const char* ToString(UpdateResult r) {
   switch (r) {
-    case UpdateResult::kApplied: return "applied";
-    case UpdateResult::kDisabled: return "disabled";
-    case UpdateResult::kGated: return "gated";
-    case UpdateResult::kRejectedNonFinite: return "rejected (non-finite)";
-    case UpdateResult::kNumericalFailure: return "numerical failure";
+    case UpdateResult::kApplied:
+      return "applied";
+    case UpdateResult::kDisabled:
+      return "disabled";
+    case UpdateResult::kGated:
+      return "gated";
+    case UpdateResult::kRejectedNonFinite:
+      return "rejected (non-finite)";
+    case UpdateResult::kNumericalFailure:
+      return "numerical failure";
   }
   return "?";
 }
@@ -170,16 +175,16 @@ UpdateResult EkfCore::UpdateGyro(const ImuMeasurement& m, double* nis) {
   }
   const int n = static_cast<int>(s_.x.size());
   Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, kMaxStates> H = Eigen::MatrixXd::Zero(3, n);
-  H.block<3, 3>(0, kW).setIdentity();  // (5.29)
+  H.block<3, 3>(0, kW).setIdentity();       // (5.29)
   Eigen::Vector3d h = s_.x.segment<3>(kW);  // (5.28)
   if (n > kBaseStates) {
     H.block<3, 3>(0, kB).setIdentity();  // z = ω + b
     h += s_.x.segment<3>(kB);
   }
-  const Eigen::Matrix3d R = (config_.use_message_imu_covariance && m.has_covariance)
-                                ? m.gyro_cov
-                                : Eigen::Matrix3d(config_.sigma_gyro_rad_s * config_.sigma_gyro_rad_s *
-                                                  Eigen::Matrix3d::Identity());
+  const Eigen::Matrix3d R =
+      (config_.use_message_imu_covariance && m.has_covariance)
+          ? m.gyro_cov
+          : Eigen::Matrix3d(config_.sigma_gyro_rad_s * config_.sigma_gyro_rad_s * Eigen::Matrix3d::Identity());
   const Eigen::Vector3d y = m.omega_camera_rad_s - h;  // (5.27)
   return Update<3>(y, H, R, nis);
 }
@@ -196,10 +201,10 @@ UpdateResult EkfCore::UpdateAccel(const ImuMeasurement& m, double* nis) {
   }
   const Eigen::Vector3d y = m.accel_camera_m_s2 - AccelModel(s_.x, config_.gravity_m_s2, config_.accel_mode);
   const auto H = AccelJacobian(s_.x, config_.gravity_m_s2, config_.accel_mode);
-  const Eigen::Matrix3d R = (config_.use_message_imu_covariance && m.has_covariance)
-                                ? m.accel_cov
-                                : Eigen::Matrix3d(config_.sigma_accel_m_s2 * config_.sigma_accel_m_s2 *
-                                                  Eigen::Matrix3d::Identity());
+  const Eigen::Matrix3d R =
+      (config_.use_message_imu_covariance && m.has_covariance)
+          ? m.accel_cov
+          : Eigen::Matrix3d(config_.sigma_accel_m_s2 * config_.sigma_accel_m_s2 * Eigen::Matrix3d::Identity());
   return Update<3>(y, H, R, nis);
 }
 

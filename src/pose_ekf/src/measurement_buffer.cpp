@@ -21,13 +21,20 @@ bool Finite(const ImuMeasurement& m) {
 
 const char* ToString(AddResult r) {
   switch (r) {
-    case AddResult::kApplied: return "applied";
-    case AddResult::kReplayed: return "replayed";
-    case AddResult::kInitialized: return "initialized";
-    case AddResult::kWaitingForCamera: return "waiting for camera";
-    case AddResult::kDroppedLate: return "dropped (late)";
-    case AddResult::kRejectedNonFinite: return "rejected (non-finite)";
-    case AddResult::kRejectedInvalid: return "rejected (invalid)";
+    case AddResult::kApplied:
+      return "applied";
+    case AddResult::kReplayed:
+      return "replayed";
+    case AddResult::kInitialized:
+      return "initialized";
+    case AddResult::kWaitingForCamera:
+      return "waiting for camera";
+    case AddResult::kDroppedLate:
+      return "dropped (late)";
+    case AddResult::kRejectedNonFinite:
+      return "rejected (non-finite)";
+    case AddResult::kRejectedInvalid:
+      return "rejected (invalid)";
   }
   return "?";
 }

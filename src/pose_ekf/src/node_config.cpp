@@ -1,18 +1,62 @@
 #include "pose_ekf/node_config.h"
 
 #include <ros/node_handle.h>
+#include <yaml-cpp/yaml.h>
 
 #include <stdexcept>
 
 namespace pose_ekf {
 namespace {
 
+class NodeHandleSource : public ParamSource {
+ public:
+  explicit NodeHandleSource(const ros::NodeHandle& nh) : nh_(nh) {}
+  void Get(const std::string& n, double* v) const override { nh_.param(n, *v, *v); }
+  void Get(const std::string& n, bool* v) const override { nh_.param(n, *v, *v); }
+  void Get(const std::string& n, std::string* v) const override { nh_.param(n, *v, *v); }
+
+ private:
+  const ros::NodeHandle& nh_;
+};
+
+class YamlSource : public ParamSource {
+ public:
+  explicit YamlSource(YAML::Node root) : root_(std::move(root)) {}
+  void Get(const std::string& n, double* v) const override { Read(n, v); }
+  void Get(const std::string& n, bool* v) const override { Read(n, v); }
+  void Get(const std::string& n, std::string* v) const override { Read(n, v); }
+
+ private:
+  template <typename T>
+  void Read(const std::string& n, T* v) const {
+    if (!root_[n]) return;
+    try {
+      *v = root_[n].as<T>();
+    } catch (const YAML::Exception& e) {
+      throw std::invalid_argument(n + " has the wrong type: " + e.what());
+    }
+  }
+  YAML::Node root_;
+};
+
 template <typename T>
-void Get(const ros::NodeHandle& nh, const std::string& name, T* value) {
-  nh.param(name, *value, *value);  // default: the struct's value
+void Get(const ParamSource& p, const std::string& name, T* value) {
+  p.Get(name, value);  // absent: the struct's default stays
 }
 
 }  // namespace
+
+NodeConfig LoadConfig(const ros::NodeHandle& private_nh) { return LoadConfig(NodeHandleSource(private_nh)); }
+
+NodeConfig LoadConfigFile(const std::string& yaml_path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(yaml_path);
+  } catch (const YAML::Exception& e) {
+    throw std::invalid_argument("cannot read config file " + yaml_path + ": " + e.what());
+  }
+  return LoadConfig(YamlSource(root));
+}
 
 AccelMode ParseAccelMode(const std::string& s) {
   if (s == "off") return AccelMode::kOff;
@@ -27,7 +71,7 @@ QuatIntegration ParseQuatIntegration(const std::string& s) {
   throw std::invalid_argument("quat_integration must be first_order or exact (got '" + s + "')");
 }
 
-NodeConfig LoadConfig(const ros::NodeHandle& nh) {
+NodeConfig LoadConfig(const ParamSource& nh) {
   NodeConfig c;
   Get(nh, "cones_frame", &c.cones_frame);
   Get(nh, "camera_frame", &c.camera_frame);
@@ -72,6 +116,10 @@ NodeConfig LoadConfig(const ros::NodeHandle& nh) {
   Get(nh, "init_sigma_v_m_s", &e.init_sigma_v_m_s);
   Get(nh, "init_sigma_a_m_s2", &e.init_sigma_a_m_s2);
   Get(nh, "init_sigma_gyro_bias_rad_s", &e.init_sigma_gyro_bias_rad_s);
+  Get(nh, "init_from_gravity", &e.init_from_gravity);
+  Get(nh, "init_sigma_tilt_rad", &e.init_sigma_tilt_rad);
+  Get(nh, "init_sigma_heading_rad", &e.init_sigma_heading_rad);
+  Get(nh, "init_sigma_p_m", &e.init_sigma_p_m);
   Get(nh, "max_delay_s", &e.max_delay_s);
   Get(nh, "time_jump_reset_s", &e.time_jump_reset_s);
   Get(nh, "max_predict_step_s", &e.max_predict_step_s);

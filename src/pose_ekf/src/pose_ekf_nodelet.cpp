@@ -5,11 +5,11 @@
 #include <diagnostic_updater/update_functions.h>
 #include <dynamic_reconfigure/server.h>
 #include <nodelet/nodelet.h>
-#include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
+#include <pluginlib/class_list_macros.hpp>
 
 #include <map>
 #include <memory>

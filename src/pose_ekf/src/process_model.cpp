@@ -76,7 +76,8 @@ StateMatrix TransitionJacobian(const StateVector& x, double dt, QuatIntegration 
     const Eigen::Vector4d q_dot_dir = L * w;
     F.block<4, 4>(kQ, kQ) = e.c * Eigen::Matrix4d::Identity() + e.s * pose_math::OmegaMatrix(w);
     // ∂c/∂ω = -(dt/2) s ω, ∂s/∂ω = ds_dn_over_n ω.
-    F.block<4, 3>(kQ, kW) = q * (-0.5 * dt * e.s * w.transpose()) + q_dot_dir * (e.ds_dn_over_n * w.transpose()) + e.s * L;
+    F.block<4, 3>(kQ, kW) =
+        q * (-0.5 * dt * e.s * w.transpose()) + q_dot_dir * (e.ds_dn_over_n * w.transpose()) + e.s * L;
   }
   F.block<3, 3>(kP, kV) = dt * Eigen::Matrix3d::Identity();
   F.block<3, 3>(kP, kA) = 0.5 * dt * dt * Eigen::Matrix3d::Identity();
@@ -100,7 +101,7 @@ StateMatrix ProcessNoise(const EkfConfig& c, int n, double dt) {
 Eigen::Vector3d AccelModel(const StateVector& x, double g, AccelMode mode) {
   Eigen::Vector3d v(0.0, 0.0, g);
   if (mode == AccelMode::kPositionAndOrientation) v += x.segment<3>(kA);  // (5.39)
-  return RotateInverse(x.segment<4>(kQ), v);                                // (5.36)
+  return RotateInverse(x.segment<4>(kQ), v);                              // (5.36)
 }
 
 Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, kMaxStates> AccelJacobian(const StateVector& x, double g,

@@ -29,8 +29,8 @@ Truth SinusoidTruth(double t, double scale) {
   const Eigen::Vector3d amp_p = scale * Eigen::Vector3d(0.25, 0.15, 0.1), w_p(2.1, 2.9, 1.7), ph_p(0.3, 1.1, 2.0);
   const Eigen::Vector3d amp_r = scale * Eigen::Vector3d(0.25, 0.2, 0.15), w_r(2.5, 1.9, 3.1), ph_r(0.7, 0.2, 1.4);
   auto orientation = [&](double s) {
-    const Eigen::Vector3d r = amp_r.cwiseProduct((w_r * s + ph_r).array().sin().matrix()) -
-                              amp_r.cwiseProduct(ph_r.array().sin().matrix());
+    const Eigen::Vector3d r =
+        amp_r.cwiseProduct((w_r * s + ph_r).array().sin().matrix()) - amp_r.cwiseProduct(ph_r.array().sin().matrix());
     return pose_math::Multiply(start.q, pose_math::QuatFromRotationVector(r));
   };
   Truth tr;
@@ -55,7 +55,8 @@ void AddCamera(const RigSimConfig& c, std::mt19937& rng, Event* e) {
   e->camera.stamp_s = e->stamp_s;
   const Eigen::Vector3d dtheta = Gaussian3(rng, c.camera_sigma_rad);
   const Eigen::Vector3d dp = Gaussian3(rng, c.camera_sigma_m);
-  e->camera.T_cones_camera.q = pose_math::Multiply(pose_math::QuatFromRotationVector(dtheta), e->truth.T_cones_camera.q);
+  e->camera.T_cones_camera.q =
+      pose_math::Multiply(pose_math::QuatFromRotationVector(dtheta), e->truth.T_cones_camera.q);
   e->camera.T_cones_camera.t = e->truth.T_cones_camera.t + dp;
   pose_math::Matrix6d cov6 = pose_math::Matrix6d::Zero();
   cov6.diagonal() << Eigen::Vector3d::Constant(c.camera_sigma_m * c.camera_sigma_m),

@@ -20,9 +20,10 @@ pose_ekf::EkfConfig SimConfig() {
 }
 
 void Print(const char* name, const RunStats& s) {
-  std::printf("[ accuracy ] %-28s rot RMS %.3f deg (max %.3f), pos RMS %.2f mm, 3-sigma %.1f %%, mean NEES %.2f, n=%d\n",
-              name, s.rms_rotation_rad * kRadToDeg, s.max_rotation_rad * kRadToDeg, s.rms_position_m * 1e3,
-              100.0 * s.fraction_within_3_sigma, s.mean_nees, s.samples);
+  std::printf(
+      "[ accuracy ] %-28s rot RMS %.3f deg (max %.3f), pos RMS %.2f mm, 3-sigma %.1f %%, mean NEES %.2f, n=%d\n", name,
+      s.rms_rotation_rad * kRadToDeg, s.max_rotation_rad * kRadToDeg, s.rms_position_m * 1e3,
+      100.0 * s.fraction_within_3_sigma, s.mean_nees, s.samples);
 }
 
 TEST(Accuracy, BeatsTheRawCameraWithCamerasVisible) {
@@ -40,7 +41,6 @@ TEST(Accuracy, BeatsTheRawCameraWithCamerasVisible) {
   EXPECT_LT(ekf.rms_position_m, 0.01);
   EXPECT_GE(ekf.fraction_within_3_sigma, 0.95);
 }
-
 
 // Wilson-Hilferty approximation of the chi-square quantile (dof k, normal quantile z).
 double ChiSquareQuantile(double k, double z) {

@@ -9,49 +9,13 @@
 #include "pose_ekf/pose_ekf_adapter.h"
 #include "pose_math/covariance.h"
 #include "pose_math/rotation.h"
+#include "ros_messages.h"
 #include "synthetic_rig.h"
 
 namespace pose_ekf_test {
 namespace {
 
 using pose_ekf::AddResult;
-
-// The IMU is mounted rotated against the camera (3.2.2); tf would give this.
-const Eigen::Quaterniond kQCameraImu(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()) *
-                                     Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()));
-
-geometry_msgs::PoseWithCovarianceStamped CameraMsg(const pose_ekf::CameraMeasurement& m) {
-  geometry_msgs::PoseWithCovarianceStamped msg;
-  msg.header.stamp.fromSec(m.stamp_s);
-  msg.header.frame_id = "cones";
-  const auto& T = m.T_cones_camera;
-  msg.pose.pose.position.x = T.t.x();
-  msg.pose.pose.position.y = T.t.y();
-  msg.pose.pose.position.z = T.t.z();
-  msg.pose.pose.orientation.w = T.q[0];
-  msg.pose.pose.orientation.x = T.q[1];
-  msg.pose.pose.orientation.y = T.q[2];
-  msg.pose.pose.orientation.z = T.q[3];
-  const pose_math::Matrix6d cov6 = pose_math::CovarianceRosFromThesis(T.q, m.cov);
-  Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(msg.pose.covariance.data()) = cov6;
-  return msg;
-}
-
-sensor_msgs::Imu ImuMsg(const pose_ekf::ImuMeasurement& m) {
-  sensor_msgs::Imu msg;
-  msg.header.stamp.fromSec(m.stamp_s);
-  msg.header.frame_id = "imu";
-  msg.orientation_covariance[0] = -1.0;  // REP-145: no orientation
-  const Eigen::Matrix3d R_imu_camera = kQCameraImu.toRotationMatrix().transpose();
-  const Eigen::Vector3d w = R_imu_camera * m.omega_camera_rad_s, a = R_imu_camera * m.accel_camera_m_s2;
-  msg.angular_velocity.x = w.x();
-  msg.angular_velocity.y = w.y();
-  msg.angular_velocity.z = w.z();
-  msg.linear_acceleration.x = a.x();
-  msg.linear_acceleration.y = a.y();
-  msg.linear_acceleration.z = a.z();
-  return msg;
-}
 
 pose_ekf::NodeConfig Config() { return pose_ekf::NodeConfig{}; }
 
@@ -74,9 +38,9 @@ TEST(Adapter, ReplayMatchesTheCoreAndTracksTruth) {
       pose_ekf::AdapterOutputs out;
       if (e.stamp_s > 1.0 && adapter.MakeOutputs(&out)) {
         const auto& o = out.pose.pose.pose.orientation;
-        const pose_math::Pose est{pose_math::Quat(o.w, o.x, o.y, o.z), Eigen::Vector3d(out.tf.transform.translation.x,
-                                                                                       out.tf.transform.translation.y,
-                                                                                       out.tf.transform.translation.z)};
+        const pose_math::Pose est{pose_math::Quat(o.w, o.x, o.y, o.z),
+                                  Eigen::Vector3d(out.tf.transform.translation.x, out.tf.transform.translation.y,
+                                                  out.tf.transform.translation.z)};
         max_rot_err = std::max(max_rot_err, pose_math::RotationErrorRad(est, e.truth.T_cones_camera));
       }
     }
@@ -102,8 +66,7 @@ TEST(Adapter, OutputsCarryFramesStampAndTwistInTheCameraFrame) {
   EXPECT_EQ(out.odometry.child_frame_id, "camera_optical");
   EXPECT_DOUBLE_EQ(out.pose.header.stamp.toSec(), 2.0);
   const auto& f = adapter.buffer().filter();
-  const Eigen::Vector3d v_camera =
-      pose_math::RotationFromQuat(f.Pose().pose.q).transpose() * f.v_cones_m_s();
+  const Eigen::Vector3d v_camera = pose_math::RotationFromQuat(f.Pose().pose.q).transpose() * f.v_cones_m_s();
   EXPECT_NEAR(out.odometry.twist.twist.linear.x, v_camera.x(), 1e-12);
   EXPECT_NEAR(out.odometry.twist.twist.angular.z, f.omega_camera_rad_s().z(), 1e-12);
   const Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>> cov(out.pose.pose.covariance.data());

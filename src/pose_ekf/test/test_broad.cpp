@@ -111,7 +111,8 @@ double InclinationRmseDeg(const Trial& t, const pose_ekf::EkfConfig& config) {
     const Eigen::Vector4d ref(t.quat[i], t.quat[i + t.n], t.quat[i + 2 * t.n], t.quat[i + 3 * t.n]);
     if (!t.movement[i] || !ref.allFinite() || !buffer.filter().initialized()) continue;
     // Earth-frame error e = q_ref ⊗ q_est*; inclination = 2 acos(sqrt(e0² + ez²)).
-    const pose_math::Quat e = pose_math::Multiply(ref.normalized(), pose_math::Conjugate(buffer.filter().Pose().pose.q));
+    const pose_math::Quat e =
+        pose_math::Multiply(ref.normalized(), pose_math::Conjugate(buffer.filter().Pose().pose.q));
     const double incl = 2.0 * std::acos(std::min(1.0, std::sqrt(e[0] * e[0] + e[3] * e[3])));
     sum += incl * incl;
     ++count;
@@ -139,9 +140,10 @@ TEST_P(Broad, OrientationOnlyBeatsMadgwickInclination) {
   gated.accel_gate_m_s2 = 0.5;
   pose_ekf::EkfConfig bias = OrientationOnlyConfig(1e-3);
   bias.estimate_gyro_bias = true;
-  std::printf("[ broad ] %s: EKF best %.3f deg (sigma_q %.0e), Madgwick best %.3f deg; at sigma_q 1e-3: gated (5.34) %.3f, "
-              "gyro-bias states %.3f deg\n",
-              GetParam(), best, best_sigma_q, madgwick, InclinationRmseDeg(t, gated), InclinationRmseDeg(t, bias));
+  std::printf(
+      "[ broad ] %s: EKF best %.3f deg (sigma_q %.0e), Madgwick best %.3f deg; at sigma_q 1e-3: gated (5.34) %.3f, "
+      "gyro-bias states %.3f deg\n",
+      GetParam(), best, best_sigma_q, madgwick, InclinationRmseDeg(t, gated), InclinationRmseDeg(t, bias));
   EXPECT_LT(best, madgwick);
 }
 

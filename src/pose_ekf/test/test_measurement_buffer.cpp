@@ -164,13 +164,13 @@ OutageRun RunOutage(const pose_ekf::EkfConfig& config) {
 
 TEST(MeasurementBuffer, OutageWithGyrosKeepsOrientationAndRecovers) {
   const OutageRun r = RunOutage(pose_ekf::EkfConfig{});
-  std::printf("[ outage ] gyros on: rot RMS before %.3f during %.3f (max %.3f) after %.3f deg; pos RMS during %.1f mm\n",
-              r.before.rms_rotation_rad * 180 / M_PI, r.during.rms_rotation_rad * 180 / M_PI,
-              r.during.max_rotation_rad * 180 / M_PI, r.after.rms_rotation_rad * 180 / M_PI,
-              r.during.rms_position_m * 1e3);
+  std::printf(
+      "[ outage ] gyros on: rot RMS before %.3f during %.3f (max %.3f) after %.3f deg; pos RMS during %.1f mm\n",
+      r.before.rms_rotation_rad * 180 / M_PI, r.during.rms_rotation_rad * 180 / M_PI,
+      r.during.max_rotation_rad * 180 / M_PI, r.after.rms_rotation_rad * 180 / M_PI, r.during.rms_position_m * 1e3);
   EXPECT_LE(r.during.max_rotation_rad, 1.0 * M_PI / 180.0);  // issue: <= 1 degree through a 2 s outage
-  EXPECT_GT(r.pos_var_end, 20.0 * r.pos_var_start);           // covariance grows on the IMU alone
-  EXPECT_LT(r.pos_var_recovered, 2.0 * r.pos_var_start);      // and shrinks again with the cones in view
+  EXPECT_GT(r.pos_var_end, 20.0 * r.pos_var_start);          // covariance grows on the IMU alone
+  EXPECT_LT(r.pos_var_recovered, 2.0 * r.pos_var_start);     // and shrinks again with the cones in view
   EXPECT_LT(r.after.rms_rotation_rad, 1.5 * r.before.rms_rotation_rad);
   EXPECT_LT(r.after.rms_position_m, 1.5 * r.before.rms_position_m);
   EXPECT_GE(r.during.fraction_within_3_sigma, 0.95);

@@ -97,8 +97,8 @@ TEST_P(AccelJacobianTest, MatchesNumericIncludingNonUnitQuaternion) {
     StateVector x = RandomState(16, seed, 1.0);
     x.segment<4>(kQ) *= 1.0 + 0.1 * seed;  // the general form 2.36 holds off the unit sphere too
     const Eigen::MatrixXd H = AccelJacobian(x, 9.81, GetParam());
-    const Eigen::MatrixXd Hn = NumericJacobian(
-        [&](const StateVector& s) { return Eigen::VectorXd(AccelModel(s, 9.81, GetParam())); }, x, 3);
+    const Eigen::MatrixXd Hn =
+        NumericJacobian([&](const StateVector& s) { return Eigen::VectorXd(AccelModel(s, 9.81, GetParam())); }, x, 3);
     EXPECT_LT((H - Hn).cwiseAbs().maxCoeff(), 1e-7) << "seed " << seed;
   }
 }

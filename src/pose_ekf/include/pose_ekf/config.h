@@ -8,12 +8,12 @@
 
 namespace pose_ekf {
 
-enum class QuatIntegration { kFirstOrder, kExact };  // 2.70 (thesis default) or 2.71
+enum class QuatIntegration { kFirstOrder, kExact };                    // 2.70 (thesis default) or 2.71
 enum class AccelMode { kOff, kOrientation, kPositionAndOrientation };  // 5.35-5.37 / 5.38-5.40
 
 struct EkfConfig {
   // Process noise, variance per second (5.23) expressed as sigma per sqrt(second).
-  double sigma_q_per_sqrt_s = 1e-3;          // quaternion (unitless)
+  double sigma_q_per_sqrt_s = 1e-3;           // quaternion (unitless)
   double sigma_omega_rad_s_per_sqrt_s = 3.0;  // angular velocity random walk
   double sigma_p_m_per_sqrt_s = 1e-3;
   double sigma_v_m_s_per_sqrt_s = 0.05;
@@ -52,7 +52,8 @@ struct EkfConfig {
   // pose. Use with accel_mode = kOrientation, as no position is observed.
   bool init_from_gravity = false;
   double init_sigma_tilt_rad = 0.05;
-  double init_sigma_heading_rad = 0.1;  // arbitrary heading, but a 4D quaternion covariance must stay small to stay linear
+  double init_sigma_heading_rad =
+      0.1;  // arbitrary heading, but a 4D quaternion covariance must stay small to stay linear
   double init_sigma_p_m = 1.0;
 
   // Measurement buffer (6.3).
