@@ -18,7 +18,7 @@ PACKAGES=(
   libsensor-msgs-dev libgeometry-msgs-dev libnav-msgs-dev libvisualization-msgs-dev libstd-srvs-dev
   librviz-dev rviz
   # pose_ekf rostest (python Odometry messages)
-  python3-nav-msgs
+  python3-nav-msgs python3-diagnostic-msgs
   # pose_ekf real-data test (BROAD .mat files)
   libmatio-dev
   # maths and vision

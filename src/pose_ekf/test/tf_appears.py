@@ -7,6 +7,7 @@ import rospy
 import rostest
 import tf2_ros
 from geometry_msgs.msg import PoseWithCovarianceStamped, TransformStamped
+from diagnostic_msgs.msg import DiagnosticArray
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu
 
@@ -15,6 +16,8 @@ class TfAppears(unittest.TestCase):
     def setUp(self):
         self.odom = None
         self.pose = None
+        self.diagnostics = {}
+        rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diagnostics)
         rospy.Subscriber("pose_ekf/odometry", Odometry, lambda m: setattr(self, "odom", m))
         rospy.Subscriber("pose_ekf/pose", PoseWithCovarianceStamped, lambda m: setattr(self, "pose", m))
         self.cam_pub = rospy.Publisher("cone_tracker/pose", PoseWithCovarianceStamped, queue_size=10)
@@ -30,6 +33,10 @@ class TfAppears(unittest.TestCase):
         self.static.sendTransform(t)
         self.buffer = tf2_ros.Buffer()
         self.listener = tf2_ros.TransformListener(self.buffer)
+
+    def on_diagnostics(self, msg):
+        for status in msg.status:
+            self.diagnostics[status.name] = {kv.key: kv.value for kv in status.values}
 
     def camera(self, stamp):
         m = PoseWithCovarianceStamped()
@@ -67,6 +74,14 @@ class TfAppears(unittest.TestCase):
         self.assertIsNotNone(self.odom, "no pose_ekf/odometry")
         self.assertEqual(self.odom.child_frame_id, "camera_optical")
         self.assertEqual(self.pose.header.frame_id, "cones")
+        deadline = rospy.Time.now() + rospy.Duration(5.0)
+        filter_status = None
+        while filter_status is None and rospy.Time.now() < deadline:
+            filter_status = next((v for k, v in self.diagnostics.items() if k.endswith("filter")), None)
+            rospy.sleep(0.1)
+        self.assertIsNotNone(filter_status, "no pose_ekf filter diagnostics; got %s" % list(self.diagnostics))
+        self.assertGreater(int(filter_status["camera updates"]), 10)
+        self.assertEqual(int(filter_status["NaN rejected"]), 0)
 
 
 if __name__ == "__main__":
