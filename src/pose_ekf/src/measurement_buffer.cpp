@@ -113,7 +113,7 @@ AddResult MeasurementBuffer::Add(Entry e) {
     if (e.is_camera && config_.use_camera) return InitializeFrom(e);
     if (!e.is_camera && config_.init_from_gravity && e.imu.has_accel &&
         ekf_.InitializeFromGravity(e.stamp_s, e.imu.accel_camera_m_s2)) {
-      counters_.dropped_late += history_.size();  // older than the start
+      counters_.imu_before_start += history_.size();
       history_.clear();
       base_ = ekf_.state();
       return AddResult::kInitialized;
@@ -150,7 +150,7 @@ AddResult MeasurementBuffer::InitializeFrom(const Entry& camera) {
   // IMU samples that arrived before the (late) first camera pose and are newer than it are kept.
   while (!history_.empty() && history_.front().stamp_s < camera.stamp_s) {
     history_.pop_front();
-    ++counters_.dropped_late;
+    ++counters_.imu_before_start;
   }
   for (Entry& e : history_) {
     Apply(e, true);
@@ -197,7 +197,7 @@ void MeasurementBuffer::Trim() {
     if (ekf_.initialized()) {
       base_ = history_.front().after;
     } else {
-      ++counters_.dropped_late;  // IMU samples too old to follow the first camera pose
+      ++counters_.imu_before_start;  // too old to follow the first camera pose
     }
     history_.pop_front();
   }

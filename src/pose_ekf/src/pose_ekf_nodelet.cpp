@@ -251,6 +251,7 @@ void PoseEkfNodelet::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   stat.add("accel updates", c.accel_applied);
   stat.add("accel gated (|a| != g)", c.accel_gated);
   stat.add("dropped late", c.dropped_late);
+  stat.add("IMU before the first pose", c.imu_before_start);
   stat.add("NaN rejected", c.nan_rejected + adapter_->nan_rejected());
   stat.add("invalid rejected", adapter_->invalid_rejected());
   stat.add("IMU without camera-IMU tf", imu_without_tf_);

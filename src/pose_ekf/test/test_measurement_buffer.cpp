@@ -133,6 +133,13 @@ TEST(MeasurementBuffer, ImuBeforeTheFirstCameraWaits) {
   imu.accel_camera_m_s2 = Eigen::Vector3d(0, 0, 9.8);
   EXPECT_EQ(b.AddImu(imu), AddResult::kWaitingForCamera);
   EXPECT_FALSE(b.filter().initialized());
+  for (int i = 1; i <= 100; ++i) {  // a second without the cones in view: normal, not "late"
+    imu.stamp_s = 0.01 * i;
+    EXPECT_EQ(b.AddImu(imu), AddResult::kWaitingForCamera);
+  }
+  EXPECT_EQ(b.counters().dropped_late, 0u);
+  EXPECT_GT(b.counters().imu_before_start, 70u);
+  EXPECT_LE(b.history_size(), 22u);  // only max_delay_s worth is kept
 }
 
 struct OutageRun {

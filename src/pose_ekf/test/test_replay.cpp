@@ -133,5 +133,22 @@ TEST(Replay, ShippedConfigFileLoads) {
   EXPECT_DOUBLE_EQ(c.ekf.max_delay_s, 0.2);
 }
 
+TEST(Replay, BadConfigFileValuesAreNamed) {
+  const std::string path = ::testing::TempDir() + "pose_ekf_bad.yaml";
+  auto expect_refused = [&](const std::string& yaml, const std::string& name) {
+    std::ofstream(path) << yaml;
+    try {
+      pose_ekf::LoadConfigFile(path);
+      ADD_FAILURE() << "accepted " << yaml;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  };
+  expect_refused("max_delay_s: -1\n", "max_delay_s");
+  expect_refused("accel_mode: sideways\n", "accel_mode");
+  expect_refused("sigma_gyro_rad_s: fast\n", "sigma_gyro_rad_s");
+  expect_refused("cones_frame: ''\n", "cones_frame");
+}
+
 }  // namespace
 }  // namespace pose_ekf_test

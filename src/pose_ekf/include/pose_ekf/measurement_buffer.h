@@ -29,6 +29,7 @@ struct BufferCounters {
   uint64_t camera_applied = 0, gyro_applied = 0, accel_applied = 0;
   uint64_t accel_gated = 0;         // |a| far from g (5.34)
   uint64_t dropped_late = 0;        // older than the buffer window
+  uint64_t imu_before_start = 0;    // IMU samples older than the first pose (waiting for the cones is normal)
   uint64_t nan_rejected = 0;        // non-finite values or stamps
   uint64_t numerical_failures = 0;  // innovation covariance not positive definite
   uint64_t resets = 0;              // time jumped backwards
