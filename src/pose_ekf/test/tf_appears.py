@@ -3,6 +3,7 @@
 import math
 import unittest
 
+import dynamic_reconfigure.client
 import rospy
 import rostest
 import tf2_ros
@@ -82,6 +83,13 @@ class TfAppears(unittest.TestCase):
         self.assertIsNotNone(filter_status, "no pose_ekf filter diagnostics; got %s" % list(self.diagnostics))
         self.assertGreater(int(filter_status["camera updates"]), 10)
         self.assertEqual(int(filter_status["NaN rejected"]), 0)
+
+    def test_reconfigure_switches_and_noise(self):
+        client = dynamic_reconfigure.client.Client("pose_ekf", timeout=10)
+        self.assertAlmostEqual(client.get_configuration(timeout=5)["sigma_gyro_rad_s"], 0.01)  # from the yaml
+        applied = client.update_configuration({"sigma_gyro_rad_s": 0.02, "use_accel": False})
+        self.assertAlmostEqual(applied["sigma_gyro_rad_s"], 0.02)
+        self.assertFalse(applied["use_accel"])
 
 
 if __name__ == "__main__":
