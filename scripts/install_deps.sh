@@ -17,6 +17,10 @@ PACKAGES=(
   libdiagnostic-updater-dev
   libsensor-msgs-dev libgeometry-msgs-dev libnav-msgs-dev libvisualization-msgs-dev libstd-srvs-dev
   librviz-dev rviz
+  # pose_ekf rostest (python Odometry messages)
+  python3-nav-msgs python3-diagnostic-msgs
+  # pose_ekf real-data test (BROAD .mat files)
+  libmatio-dev
   # maths and vision
   libeigen3-dev libceres-dev libopencv-dev libsdp-dev
   # GigE camera (Aravis 0.8; its pkg-config needs libusb)

@@ -1,0 +1,206 @@
+#include "pose_ekf/measurement_buffer.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pose_ekf {
+namespace {
+
+bool Finite(const CameraMeasurement& m) {
+  return std::isfinite(m.stamp_s) && m.T_cones_camera.q.allFinite() && m.T_cones_camera.t.allFinite() &&
+         m.cov.allFinite() && m.T_cones_camera.q.norm() > 1e-6;
+}
+
+bool Finite(const ImuMeasurement& m) {
+  return std::isfinite(m.stamp_s) && (!m.has_gyro || m.omega_camera_rad_s.allFinite()) &&
+         (!m.has_accel || m.accel_camera_m_s2.allFinite()) &&
+         (!m.has_covariance || (m.gyro_cov.allFinite() && m.accel_cov.allFinite()));
+}
+
+}  // namespace
+
+const char* ToString(AddResult r) {
+  switch (r) {
+    case AddResult::kApplied:
+      return "applied";
+    case AddResult::kReplayed:
+      return "replayed";
+    case AddResult::kInitialized:
+      return "initialized";
+    case AddResult::kWaitingForCamera:
+      return "waiting for camera";
+    case AddResult::kDroppedLate:
+      return "dropped (late)";
+    case AddResult::kRejectedNonFinite:
+      return "rejected (non-finite)";
+    case AddResult::kRejectedInvalid:
+      return "rejected (invalid)";
+  }
+  return "?";
+}
+
+MeasurementBuffer::MeasurementBuffer(const EkfConfig& config) : config_(config), ekf_(config) {}
+
+void MeasurementBuffer::SetConfig(const EkfConfig& config) {
+  ekf_.SetConfig(config);  // throws on invalid config before anything changes
+  config_ = config;
+}
+
+bool MeasurementBuffer::Before(const Entry& a, const Entry& b) {
+  if (a.stamp_s != b.stamp_s) return a.stamp_s < b.stamp_s;
+  if (a.is_camera != b.is_camera) return a.is_camera;  // equal stamps: camera first, deterministically
+  return a.seq < b.seq;
+}
+
+AddResult MeasurementBuffer::AddCamera(const CameraMeasurement& m) {
+  if (!Finite(m)) {
+    ++counters_.nan_rejected;
+    return AddResult::kRejectedNonFinite;
+  }
+  Entry e;
+  e.stamp_s = m.stamp_s;
+  e.is_camera = true;
+  e.camera = m;
+  return Add(std::move(e));
+}
+
+AddResult MeasurementBuffer::AddImu(const ImuMeasurement& m) {
+  if (!Finite(m)) {
+    ++counters_.nan_rejected;
+    return AddResult::kRejectedNonFinite;
+  }
+  Entry e;
+  e.stamp_s = m.stamp_s;
+  e.imu = m;
+  return Add(std::move(e));
+}
+
+void MeasurementBuffer::Reset() {
+  history_.clear();
+  ekf_.Reset();
+  last_camera_stamp_s_ = last_imu_stamp_s_ = -1e300;
+  ++counters_.resets;
+}
+
+bool MeasurementBuffer::TakeResetWarning() {
+  const bool w = reset_warning_;
+  reset_warning_ = false;
+  return w;
+}
+
+// Each stream is in order within itself; a big step back in one means time
+// itself jumped back (design: clear state with one warning).
+bool MeasurementBuffer::DetectTimeJump(const Entry& e) {
+  double& last = e.is_camera ? last_camera_stamp_s_ : last_imu_stamp_s_;
+  const bool jump = e.stamp_s < last - config_.time_jump_reset_s;
+  if (jump) {
+    Reset();
+    reset_warning_ = true;
+  }
+  last = std::max(e.is_camera ? last_camera_stamp_s_ : last_imu_stamp_s_, e.stamp_s);
+  return jump;
+}
+
+AddResult MeasurementBuffer::Add(Entry e) {
+  DetectTimeJump(e);
+  e.seq = next_seq_++;
+  const double newest = history_.empty() ? (ekf_.initialized() ? base_.stamp_s : -1e300) : history_.back().stamp_s;
+  if (e.stamp_s < newest - config_.max_delay_s || (ekf_.initialized() && e.stamp_s < base_.stamp_s)) {
+    ++counters_.dropped_late;
+    return AddResult::kDroppedLate;
+  }
+  if (!ekf_.initialized()) {
+    if (e.is_camera && config_.use_camera) return InitializeFrom(e);
+    if (!e.is_camera && config_.init_from_gravity && e.imu.has_accel &&
+        ekf_.InitializeFromGravity(e.stamp_s, e.imu.accel_camera_m_s2)) {
+      counters_.imu_before_start += history_.size();
+      history_.clear();
+      base_ = ekf_.state();
+      return AddResult::kInitialized;
+    }
+    if (!e.is_camera) {
+      history_.insert(std::upper_bound(history_.begin(), history_.end(), e, Before), std::move(e));
+      Trim();
+    }
+    return AddResult::kWaitingForCamera;
+  }
+  const auto pos = std::upper_bound(history_.begin(), history_.end(), e, Before);
+  const bool at_end = pos == history_.end();
+  size_t i = static_cast<size_t>(pos - history_.begin());
+  history_.insert(pos, std::move(e));
+  if (!at_end) {
+    ekf_.Restore(i == 0 ? base_ : history_[i - 1].after);
+    ++counters_.replays;
+  }
+  for (size_t j = i; j < history_.size(); ++j) {
+    Apply(history_[j], j == i);  // re-applied measurements are not counted twice
+    history_[j].after = ekf_.state();
+  }
+  Trim();
+  return at_end ? AddResult::kApplied : AddResult::kReplayed;
+}
+
+AddResult MeasurementBuffer::InitializeFrom(const Entry& camera) {
+  if (!ekf_.Initialize(camera.camera)) {
+    ++counters_.nan_rejected;
+    return AddResult::kRejectedNonFinite;
+  }
+  ++counters_.camera_applied;
+  base_ = ekf_.state();
+  // IMU samples that arrived before the (late) first camera pose and are newer than it are kept.
+  while (!history_.empty() && history_.front().stamp_s < camera.stamp_s) {
+    history_.pop_front();
+    ++counters_.imu_before_start;
+  }
+  for (Entry& e : history_) {
+    Apply(e, true);
+    e.after = ekf_.state();
+  }
+  Trim();
+  return AddResult::kInitialized;
+}
+
+void MeasurementBuffer::Apply(Entry& e, bool count) {
+  // With the gyro and accelerometer switched off an IMU sample carries nothing:
+  // like the thesis's measurement-driven EKF, the pose then freezes between
+  // camera frames instead of extrapolating the last angular rate (7.3 survey).
+  if (!e.is_camera && !config_.use_gyro && config_.accel_mode == AccelMode::kOff) return;
+  ekf_.Predict(e.stamp_s);
+  auto tally = [&](UpdateResult r, uint64_t* applied) {
+    if (!count) return;
+    if (r == UpdateResult::kApplied) ++*applied;
+    if (r == UpdateResult::kGated) ++counters_.accel_gated;
+    if (r == UpdateResult::kRejectedNonFinite) ++counters_.nan_rejected;
+    if (r == UpdateResult::kNumericalFailure) ++counters_.numerical_failures;
+  };
+  if (e.is_camera) {
+    double nis = 0.0;
+    const UpdateResult r = ekf_.UpdateCamera(e.camera, &nis);
+    tally(r, &counters_.camera_applied);
+    if (count && r == UpdateResult::kApplied) {
+      ++counters_.camera_nis_count;
+      counters_.camera_nis_sum += nis;
+      counters_.camera_nis_last = nis;
+    }
+  } else {
+    tally(ekf_.UpdateGyro(e.imu), &counters_.gyro_applied);
+    tally(ekf_.UpdateAccel(e.imu), &counters_.accel_applied);
+  }
+}
+
+// Keeps what a measurement up to max_delay_s late needs: the entries inside the
+// window, and as base_ the state just before them.
+void MeasurementBuffer::Trim() {
+  if (history_.empty()) return;
+  const double oldest_kept = history_.back().stamp_s - config_.max_delay_s;
+  while (!history_.empty() && history_.front().stamp_s < oldest_kept) {
+    if (ekf_.initialized()) {
+      base_ = history_.front().after;
+    } else {
+      ++counters_.imu_before_start;  // too old to follow the first camera pose
+    }
+    history_.pop_front();
+  }
+}
+
+}  // namespace pose_ekf

@@ -1,0 +1,213 @@
+// The measurement buffer (6.3): stamp order whatever the arrival order, late
+// camera frames re-applied from the state history, drops, resets, outages.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "pose_ekf/measurement_buffer.h"
+#include "pose_math/covariance.h"
+#include "synthetic_rig.h"
+
+namespace pose_ekf_test {
+namespace {
+
+using pose_ekf::AddResult;
+using pose_ekf::MeasurementBuffer;
+
+AddResult Feed(MeasurementBuffer& b, const Event& e) { return e.is_camera ? b.AddCamera(e.camera) : b.AddImu(e.imu); }
+
+void FeedAll(MeasurementBuffer& b, const std::vector<Event>& events) {
+  for (const Event& e : events) Feed(b, e);
+}
+
+// Delivers every camera frame `delay_s` after its stamp: after all IMU samples
+// stamped up to stamp + delay_s, as a slow vision thread would.
+std::vector<Event> DelayCameras(const std::vector<Event>& in_order, double delay_s) {
+  std::vector<Event> out, pending;
+  for (const Event& e : in_order) {
+    if (e.is_camera) {
+      pending.push_back(e);
+      continue;
+    }
+    out.push_back(e);
+    while (!pending.empty() && pending.front().stamp_s + delay_s <= e.stamp_s) {
+      out.push_back(pending.front());
+      pending.erase(pending.begin());
+    }
+  }
+  out.insert(out.end(), pending.begin(), pending.end());
+  return out;
+}
+
+double MaxDiff(const MeasurementBuffer& a, const MeasurementBuffer& b) {
+  return std::max((a.filter().state().x - b.filter().state().x).cwiseAbs().maxCoeff(),
+                  (a.filter().state().P - b.filter().state().P).cwiseAbs().maxCoeff());
+}
+
+TEST(MeasurementBuffer, LateCamerasGiveTheSameEstimateAsInOrder) {
+  RigSimConfig sim;
+  sim.duration_s = 5.0;
+  const std::vector<Event> events = GenerateRig(sim);
+  const std::vector<Event> late = DelayCameras(events, 0.15);  // under max_delay_s = 0.2; the first frame too
+  ASSERT_FALSE(late.front().is_camera);
+  MeasurementBuffer in_order{pose_ekf::EkfConfig{}}, out_of_order{pose_ekf::EkfConfig{}};
+  FeedAll(in_order, events);
+  FeedAll(out_of_order, late);
+  EXPECT_LE(MaxDiff(in_order, out_of_order), 1e-9);
+  EXPECT_GT(out_of_order.counters().replays, 100u);
+  EXPECT_EQ(in_order.counters().replays, 0u);
+  EXPECT_EQ(out_of_order.counters().dropped_late, 0u);
+  EXPECT_EQ(out_of_order.counters().camera_applied, in_order.counters().camera_applied);
+  EXPECT_EQ(out_of_order.counters().gyro_applied, in_order.counters().gyro_applied);  // replays not double counted
+  EXPECT_DOUBLE_EQ(out_of_order.filter().state().stamp_s, 5.0);
+}
+
+TEST(MeasurementBuffer, TooLateCameraIsDroppedAndCounted) {
+  RigSimConfig sim;
+  sim.duration_s = 3.0;
+  std::vector<Event> events = GenerateRig(sim);
+  // Take the camera frame at 1.5 s out and deliver it 0.3 s late.
+  auto it = std::find_if(events.begin(), events.end(), [](const Event& e) { return e.is_camera && e.stamp_s >= 1.5; });
+  const Event frame = *it;
+  events.erase(it);
+  MeasurementBuffer without{pose_ekf::EkfConfig{}}, with_late{pose_ekf::EkfConfig{}};
+  for (const Event& e : events) {
+    Feed(without, e);
+    Feed(with_late, e);
+    if (!e.is_camera && std::abs(e.stamp_s - (frame.stamp_s + 0.3)) < 1e-9) {
+      EXPECT_EQ(Feed(with_late, frame), AddResult::kDroppedLate);
+    }
+  }
+  EXPECT_EQ(with_late.counters().dropped_late, 1u);
+  EXPECT_EQ(MaxDiff(without, with_late), 0.0);
+}
+
+TEST(MeasurementBuffer, NonFiniteMessagesAreRejectedAndCounted) {
+  RigSimConfig sim;
+  sim.duration_s = 2.0;
+  const std::vector<Event> events = GenerateRig(sim);
+  MeasurementBuffer clean{pose_ekf::EkfConfig{}}, dirty{pose_ekf::EkfConfig{}};
+  for (const Event& e : events) {
+    Feed(clean, e);
+    Feed(dirty, e);
+    if (std::abs(e.stamp_s - 1.0) < 1e-9 && !e.is_camera) {
+      Event bad_imu = e;
+      bad_imu.imu.omega_camera_rad_s.x() = std::numeric_limits<double>::quiet_NaN();
+      Event bad_cam = e;
+      bad_cam.is_camera = true;
+      bad_cam.camera.stamp_s = e.stamp_s;
+      bad_cam.camera.T_cones_camera = e.truth.T_cones_camera;
+      bad_cam.camera.cov(0, 0) = std::numeric_limits<double>::infinity();
+      Event bad_stamp = e;
+      bad_stamp.imu.stamp_s = std::numeric_limits<double>::quiet_NaN();
+      EXPECT_EQ(Feed(dirty, bad_imu), AddResult::kRejectedNonFinite);
+      EXPECT_EQ(Feed(dirty, bad_cam), AddResult::kRejectedNonFinite);
+      EXPECT_EQ(Feed(dirty, bad_stamp), AddResult::kRejectedNonFinite);
+    }
+  }
+  EXPECT_EQ(dirty.counters().nan_rejected, 3u);
+  EXPECT_EQ(clean.counters().nan_rejected, 0u);
+  EXPECT_EQ(MaxDiff(clean, dirty), 0.0);  // nothing valid was lost
+}
+
+TEST(MeasurementBuffer, TimeJumpingBackwardsResetsOnceWithOneWarning) {
+  RigSimConfig sim;
+  sim.duration_s = 3.0;
+  const std::vector<Event> events = GenerateRig(sim);
+  MeasurementBuffer looped{pose_ekf::EkfConfig{}}, fresh{pose_ekf::EkfConfig{}};
+  FeedAll(looped, events);
+  EXPECT_FALSE(looped.TakeResetWarning());
+  FeedAll(looped, events);  // a bag loop: time starts again at 0
+  FeedAll(fresh, events);
+  EXPECT_EQ(looped.counters().resets, 1u);
+  EXPECT_TRUE(looped.TakeResetWarning());
+  EXPECT_FALSE(looped.TakeResetWarning());
+  EXPECT_EQ(MaxDiff(looped, fresh), 0.0);  // state after the reset is built from the new data only
+}
+
+TEST(MeasurementBuffer, ImuBeforeTheFirstCameraWaits) {
+  MeasurementBuffer b{pose_ekf::EkfConfig{}};
+  pose_ekf::ImuMeasurement imu;
+  imu.stamp_s = 0.0;
+  imu.accel_camera_m_s2 = Eigen::Vector3d(0, 0, 9.8);
+  EXPECT_EQ(b.AddImu(imu), AddResult::kWaitingForCamera);
+  EXPECT_FALSE(b.filter().initialized());
+  for (int i = 1; i <= 100; ++i) {  // a second without the cones in view: normal, not "late"
+    imu.stamp_s = 0.01 * i;
+    EXPECT_EQ(b.AddImu(imu), AddResult::kWaitingForCamera);
+  }
+  EXPECT_EQ(b.counters().dropped_late, 0u);
+  EXPECT_GT(b.counters().imu_before_start, 70u);
+  EXPECT_LE(b.history_size(), 22u);  // only max_delay_s worth is kept
+}
+
+struct OutageRun {
+  RunStats before, during, after;
+  double pos_var_start = 0.0, pos_var_end = 0.0, pos_var_recovered = 0.0;
+};
+
+// Cones out of view from 4 s to 6 s.
+OutageRun RunOutage(const pose_ekf::EkfConfig& config) {
+  RigSimConfig sim;
+  sim.duration_s = 9.0;
+  sim.outage_start_s = 4.0;
+  sim.outage_end_s = 6.0;
+  const std::vector<Event> events = GenerateRig(sim);
+  OutageRun r;
+  r.before = RunFilter(config, events, 1.0, [](double t) { return t < 4.0; });
+  r.during = RunFilter(config, events, 1.0, [](double t) { return t >= 4.0 && t < 6.0; });
+  r.after = RunFilter(config, events, 1.0, [](double t) { return t >= 7.0; });
+  MeasurementBuffer b{config};
+  for (const Event& e : events) {
+    Feed(b, e);
+    auto trace = [&] { return b.filter().state().P.block<3, 3>(pose_ekf::kP, pose_ekf::kP).trace(); };
+    if (!e.is_camera && std::abs(e.stamp_s - 4.0) < 1e-9) r.pos_var_start = trace();
+    if (!e.is_camera && std::abs(e.stamp_s - 5.99) < 1e-9) r.pos_var_end = trace();
+    if (!e.is_camera && std::abs(e.stamp_s - 7.0) < 1e-9) r.pos_var_recovered = trace();
+  }
+  return r;
+}
+
+TEST(MeasurementBuffer, OutageWithGyrosKeepsOrientationAndRecovers) {
+  const OutageRun r = RunOutage(pose_ekf::EkfConfig{});
+  std::printf(
+      "[ outage ] gyros on: rot RMS before %.3f during %.3f (max %.3f) after %.3f deg; pos RMS during %.1f mm\n",
+      r.before.rms_rotation_rad * 180 / M_PI, r.during.rms_rotation_rad * 180 / M_PI,
+      r.during.max_rotation_rad * 180 / M_PI, r.after.rms_rotation_rad * 180 / M_PI, r.during.rms_position_m * 1e3);
+  EXPECT_LE(r.during.max_rotation_rad, 1.0 * M_PI / 180.0);  // issue: <= 1 degree through a 2 s outage
+  EXPECT_GT(r.pos_var_end, 20.0 * r.pos_var_start);          // covariance grows on the IMU alone
+  EXPECT_LT(r.pos_var_recovered, 2.0 * r.pos_var_start);     // and shrinks again with the cones in view
+  EXPECT_LT(r.after.rms_rotation_rad, 1.5 * r.before.rms_rotation_rad);
+  EXPECT_LT(r.after.rms_position_m, 1.5 * r.before.rms_position_m);
+  EXPECT_GE(r.during.fraction_within_3_sigma, 0.95);
+}
+
+// The thesis (7.3): without gyros "the pose of the virtual model quit updating
+// all together" while the cones were out of view.
+TEST(MeasurementBuffer, OutageWithImuSwitchedOffFreezesThePose) {
+  pose_ekf::EkfConfig c;
+  c.use_gyro = false;
+  c.accel_mode = pose_ekf::AccelMode::kOff;
+  RigSimConfig sim;
+  sim.duration_s = 7.0;
+  sim.outage_start_s = 4.0;
+  sim.outage_end_s = 6.0;
+  MeasurementBuffer b{c};
+  pose_math::Pose frozen;
+  double max_change = 0.0;
+  for (const Event& e : GenerateRig(sim)) {
+    Feed(b, e);
+    if (e.is_camera && e.stamp_s < 4.0) frozen = b.filter().Pose().pose;
+    if (!e.is_camera && e.stamp_s > 4.0 && e.stamp_s < 6.0) {
+      max_change = std::max(max_change, pose_math::RotationErrorRad(frozen, b.filter().Pose().pose) +
+                                            pose_math::TranslationError(frozen, b.filter().Pose().pose));
+    }
+  }
+  EXPECT_EQ(max_change, 0.0);
+  EXPECT_GT(b.counters().camera_applied, 140u);  // and it resumes with the cones in view
+  EXPECT_GT(b.filter().state().stamp_s, 6.9);
+}
+
+}  // namespace
+}  // namespace pose_ekf_test

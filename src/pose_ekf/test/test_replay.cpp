@@ -1,0 +1,154 @@
+// ekf_replay on bags written from the synthetic rig: the TUM trajectory it
+// writes must follow the truth; an IMU-only bag runs orientation-only.
+#include <gtest/gtest.h>
+#include <rosbag/bag.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "pose_ekf/replay.h"
+#include "pose_math/rotation.h"
+#include "ros_messages.h"
+#include "synthetic_rig.h"
+
+namespace pose_ekf_test {
+namespace {
+
+std::string WriteBag(const std::vector<Event>& events, bool with_camera, const std::string& name) {
+  const std::string path = ::testing::TempDir() + name;
+  rosbag::Bag bag(path, rosbag::bagmode::Write);
+  tf2_msgs::TFMessage tf;
+  tf.transforms.resize(1);
+  tf.transforms[0].header.frame_id = "camera_optical";
+  tf.transforms[0].child_frame_id = "imu";
+  tf.transforms[0].transform.rotation.w = kQCameraImu.w();
+  tf.transforms[0].transform.rotation.x = kQCameraImu.x();
+  tf.transforms[0].transform.rotation.y = kQCameraImu.y();
+  tf.transforms[0].transform.rotation.z = kQCameraImu.z();
+  bag.write("/tf_static", ros::Time(1.0), tf);
+  for (const Event& e : events) {
+    ros::Time t;
+    t.fromSec(e.stamp_s + 1.0);  // ros::Time cannot be 0 in a bag
+    if (e.is_camera && with_camera) {
+      auto msg = CameraMsg(e.camera);
+      msg.header.stamp = t;
+      bag.write("/cone_tracker/pose", t, msg);
+    } else if (!e.is_camera) {
+      auto msg = ImuMsg(e.imu);
+      msg.header.stamp = t;
+      bag.write("/imu/data_raw", t, msg);
+    }
+  }
+  bag.close();
+  return path;
+}
+
+// t -> pose from a TUM file.
+std::map<long, pose_math::Pose> ReadTum(const std::string& path) {
+  std::map<long, pose_math::Pose> out;
+  std::ifstream f(path);
+  double t, x, y, z, qx, qy, qz, qw;
+  while (f >> t >> x >> y >> z >> qx >> qy >> qz >> qw) {
+    out[std::lround((t - 1.0) * 1000)] = {pose_math::Quat(qw, qx, qy, qz), Eigen::Vector3d(x, y, z)};
+  }
+  return out;
+}
+
+TEST(Replay, WritesATumTrajectoryThatFollowsTheTruth) {
+  RigSimConfig sim;
+  sim.duration_s = 5.0;
+  const std::vector<Event> events = GenerateRig(sim);
+  pose_ekf::ReplayOptions o;
+  o.bag_path = WriteBag(events, true, "pose_ekf_replay.bag");
+  o.output_path = ::testing::TempDir() + "pose_ekf_replay.txt";
+  std::ostringstream log;
+  const pose_ekf::ReplaySummary s = pose_ekf::RunReplay(o, log);
+  EXPECT_FALSE(s.orientation_only);
+  EXPECT_EQ(s.imu_rotation_source, "/tf_static camera_optical <- imu") << log.str();
+  const auto tum = ReadTum(o.output_path);
+  EXPECT_EQ(tum.size(), s.poses_written);
+  EXPECT_GT(tum.size(), 490u);
+  double sum_rot2 = 0.0, sum_pos2 = 0.0;
+  int n = 0;
+  for (const Event& e : events) {
+    const auto it = tum.find(std::lround(e.stamp_s * 1000));
+    if (e.is_camera || e.stamp_s < 1.0 || it == tum.end()) continue;
+    sum_rot2 += std::pow(pose_math::RotationErrorRad(it->second, e.truth.T_cones_camera), 2);
+    sum_pos2 += std::pow(pose_math::TranslationError(it->second, e.truth.T_cones_camera), 2);
+    ++n;
+  }
+  ASSERT_GT(n, 390);
+  EXPECT_LT(std::sqrt(sum_rot2 / n) * 180 / M_PI, 0.3);
+  EXPECT_LT(std::sqrt(sum_pos2 / n), 0.01);
+}
+
+TEST(Replay, ImuOnlyBagRunsOrientationOnly) {
+  RigSimConfig sim;
+  sim.duration_s = 5.0;
+  sim.motion_scale = 0.2;  // gentle motion: gravity dominates the accelerometer
+  const std::vector<Event> events = GenerateRig(sim);
+  pose_ekf::ReplayOptions o;
+  o.bag_path = WriteBag(events, false, "pose_ekf_imu_only.bag");
+  o.output_path = ::testing::TempDir() + "pose_ekf_imu_only.txt";
+  std::ostringstream log;
+  const pose_ekf::ReplaySummary s = pose_ekf::RunReplay(o, log);
+  EXPECT_TRUE(s.orientation_only);
+  const auto tum = ReadTum(o.output_path);
+  ASSERT_GT(tum.size(), 490u) << log.str();
+  // Orientation-only: the IMU frame is the body, heading is arbitrary; the tilt must match.
+  // Truth "up" in the IMU frame: R_imu_camera R_cones_cameraᵀ e_z.
+  double max_tilt = 0.0;
+  for (const Event& e : events) {
+    const auto it = tum.find(std::lround(e.stamp_s * 1000));
+    if (e.is_camera || e.stamp_s < 1.0 || it == tum.end()) continue;
+    const Eigen::Vector3d up_true =
+        kQCameraImu.conjugate() *
+        (pose_math::RotationFromQuat(e.truth.T_cones_camera.q).transpose() * Eigen::Vector3d::UnitZ());
+    const Eigen::Vector3d up_est = pose_math::RotationFromQuat(it->second.q).transpose() * Eigen::Vector3d::UnitZ();
+    max_tilt = std::max(max_tilt, std::acos(std::min(1.0, up_true.dot(up_est))));
+  }
+  EXPECT_LT(max_tilt * 180 / M_PI, 2.0);
+}
+
+TEST(Replay, MissingBagIsAClearError) {
+  pose_ekf::ReplayOptions o;
+  o.bag_path = "/nonexistent/in.bag";
+  o.output_path = ::testing::TempDir() + "unused.txt";
+  std::ostringstream log;
+  try {
+    pose_ekf::RunReplay(o, log);
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/in.bag"), std::string::npos);
+  }
+}
+
+TEST(Replay, ShippedConfigFileLoads) {
+  const pose_ekf::NodeConfig c = pose_ekf::LoadConfigFile(std::string(POSE_EKF_SOURCE_DIR) + "/config/pose_ekf.yaml");
+  EXPECT_EQ(c.cones_frame, "cones");
+  EXPECT_EQ(c.ekf.accel_mode, pose_ekf::AccelMode::kPositionAndOrientation);
+  EXPECT_DOUBLE_EQ(c.ekf.max_delay_s, 0.2);
+}
+
+TEST(Replay, BadConfigFileValuesAreNamed) {
+  const std::string path = ::testing::TempDir() + "pose_ekf_bad.yaml";
+  auto expect_refused = [&](const std::string& yaml, const std::string& name) {
+    std::ofstream(path) << yaml;
+    try {
+      pose_ekf::LoadConfigFile(path);
+      ADD_FAILURE() << "accepted " << yaml;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  };
+  expect_refused("max_delay_s: -1\n", "max_delay_s");
+  expect_refused("accel_mode: sideways\n", "accel_mode");
+  expect_refused("sigma_gyro_rad_s: fast\n", "sigma_gyro_rad_s");
+  expect_refused("cones_frame: ''\n", "cones_frame");
+}
+
+}  // namespace
+}  // namespace pose_ekf_test
