@@ -17,10 +17,6 @@ PACKAGES=(
   libdiagnostic-updater-dev
   libsensor-msgs-dev libgeometry-msgs-dev libnav-msgs-dev libvisualization-msgs-dev libstd-srvs-dev
   librviz-dev rviz
-  # pose_ekf rostest (python Odometry messages)
-  python3-nav-msgs python3-diagnostic-msgs
-  # pose_ekf real-data test (BROAD .mat files)
-  libmatio-dev
   # maths and vision
   libeigen3-dev libceres-dev libopencv-dev libsdp-dev
   # GigE camera (Aravis 0.8; its pkg-config needs libusb)
@@ -29,8 +25,10 @@ PACKAGES=(
   libassimp-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libgles-dev xvfb
   # reports
   python3-numpy python3-matplotlib python3-yaml
-  # imu_driver: calibration input YAML, python rostest messages, real-data test (.mat files)
-  libyaml-cpp-dev python3-std-msgs python3-sensor-msgs python3-std-srvs python3-diagnostic-msgs python3-scipy
+  # python messages for the rostests
+  python3-std-msgs python3-sensor-msgs python3-std-srvs python3-diagnostic-msgs python3-nav-msgs
+  # calibration YAML (imu_driver); the BROAD IMU data set's .mat files (imu_driver via scipy, pose_ekf via matio)
+  libyaml-cpp-dev python3-scipy libmatio-dev
 )
 
 if [[ "${1:-}" == "--print" ]]; then
