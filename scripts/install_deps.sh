@@ -19,6 +19,8 @@ PACKAGES=(
   librviz-dev rviz
   # maths and vision
   libeigen3-dev libceres-dev libopencv-dev libsdp-dev
+  # rig_sim: cone layout files
+  libyaml-cpp-dev
   # GigE camera (Aravis 0.8; its pkg-config needs libusb)
   libaravis-dev libusb-1.0-0-dev aravis-tools
   # rendering: models, headless OpenGL, a display for rviz
