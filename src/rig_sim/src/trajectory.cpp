@@ -107,12 +107,15 @@ TruePose Trajectory::BaseAt(double s) const {
   // Walk around the cones: mean orbit rate plus a slow back-and-forth.
   const double azimuth = phase_[0] + c.orbit_rate_deg_s * kDeg * s + 0.6 * wave(0, s);
   const double mid_d = 0.5 * (c.min_distance_m + c.max_distance_m);
-  const double half_d = 0.5 * (c.max_distance_m - c.min_distance_m);
-  const double dist = mid_d + half_d * (0.7 * wave(1, s) + 0.25 * wave(2, s));  // stays inside the range
+  // The look target wanders by up to sqrt(2) * wander_m; the orbit leaves room for it so the
+  // camera stays within [min, max] of the cone centroid.
+  const double wander_m = 0.06 * mid_d;
+  const double half_d = std::max(0.0, 0.5 * (c.max_distance_m - c.min_distance_m) - 1.5 * wander_m);
+  const double dist = mid_d + half_d * (0.7 * wave(1, s) + 0.25 * wave(2, s));
   const double mid_e = 0.5 * (c.min_elevation_deg + c.max_elevation_deg) * kDeg;
   const double half_e = 0.5 * (c.max_elevation_deg - c.min_elevation_deg) * kDeg;
   const double elev = mid_e + half_e * (0.75 * wave(3, s) + 0.2 * wave(4, s));
-  const Eigen::Vector3d target(0.25 * wave(5, s), 0.25 * wave(4, 1.3 * s), c.look_target_height_m);
+  const Eigen::Vector3d target(wander_m * wave(5, s), wander_m * wave(4, 1.3 * s), c.look_target_height_m);
   const Eigen::Vector3d tremor_m = 0.004 * Eigen::Vector3d(wave(6, s), wave(7, s), wave(8, s));
   const Eigen::Vector3d p = target + dist * Eigen::Vector3d(std::cos(elev) * std::cos(azimuth),
                                                             std::cos(elev) * std::sin(azimuth), std::sin(elev)) +
