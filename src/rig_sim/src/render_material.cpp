@@ -8,7 +8,6 @@ namespace rig_sim {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kTexelM = 0.02;
 
 // Value noise on a lattice of `period` texels, bilinear, periodic over the texture.
 void AddValueNoise(std::vector<float>* tex, int size, int period, float amplitude, std::mt19937* rng) {
@@ -33,14 +32,20 @@ void AddValueNoise(std::vector<float>* tex, int size, int period, float amplitud
 Materials::Materials(const Scene& scene, const RenderConfig& config)
     : cones_(scene.cones), ground_(scene.ground), lighting_(config.lighting) {
   const int size = 1 << kTexBits;
-  texture_.assign(size * size, 1.0f);
+  std::vector<float> tex(size * size, 1.0f);
   std::mt19937 rng(12345u + static_cast<unsigned>(scene.ground));  // the ground looks the same for every seed
-  AddValueNoise(&texture_, size, 256, 0.15f, &rng);
-  AddValueNoise(&texture_, size, 64, 0.12f, &rng);
-  AddValueNoise(&texture_, size, 16, 0.10f, &rng);
-  AddValueNoise(&texture_, size, 4, 0.08f, &rng);
+  AddValueNoise(&tex, size, 128, 0.15f, &rng);
+  AddValueNoise(&tex, size, 32, 0.12f, &rng);
+  AddValueNoise(&tex, size, 8, 0.10f, &rng);
+  AddValueNoise(&tex, size, 2, 0.08f, &rng);
   std::uniform_real_distribution<float> grain(-0.12f, 0.12f);
-  for (auto& t : texture_) t = std::max(0.2f, t + grain(rng));
+  texture_.resize(tex.size());
+  for (size_t i = 0; i < tex.size(); ++i)
+    texture_[i] = static_cast<uint8_t>(std::clamp(std::lround(128.0f * (tex[i] + grain(rng))), 26l, 255l));
+  const int macro_size = 1 << kMacroBits;
+  macro_.assign(macro_size * macro_size, 1.0f);
+  AddValueNoise(&macro_, macro_size, 16, 0.25f, &rng);
+  AddValueNoise(&macro_, macro_size, 4, 0.1f, &rng);
   for (int i = 0; i < kLutSize; ++i) {
     const double x = std::min(1.0, i / static_cast<double>(kLutScale));
     const double s = x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
@@ -62,15 +67,6 @@ Lighting Materials::LightingAt(double t) const {
   return l;
 }
 
-float Materials::Texture(double x, double y) const {
-  const int mask = (1 << kTexBits) - 1;
-  const int ix = static_cast<int>(std::floor(x / kTexelM)) & mask;
-  const int iy = static_cast<int>(std::floor(y / kTexelM)) & mask;
-  // A second, coarser lookup at an unrelated scale hides the tiling.
-  const int jx = static_cast<int>(std::floor(x / (kTexelM * 13.7))) & mask;
-  const int jy = static_cast<int>(std::floor(y / (kTexelM * 13.7))) & mask;
-  return texture_[(iy << kTexBits) | ix] * (0.75f + 0.25f * texture_[(jy << kTexBits) | jx]);
-}
 
 Eigen::Vector3f Materials::ConeAlbedo(const Prim& p, double z, bool* reflective) const {
   const ConeSpec& c = cones_[p.cone_index];
@@ -96,9 +92,9 @@ Eigen::Vector3f Materials::PersonAlbedo(double z, double h, bool* reflective) co
   return Eigen::Vector3f(0.95f, 0.30f, 0.02f);  // hi-vis orange
 }
 
-Eigen::Vector3f Materials::Shade(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Hit& hit,
-                                 const Prim* decal, const Lighting& light, int16_t* label) const {
-  const Eigen::Vector3d dn = d.normalized();
+Eigen::Vector3f Materials::Shade(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double inv_norm_d,
+                                 const Hit& hit, const Prim* decal, const Lighting& light, int16_t* label) const {
+  const Eigen::Vector3d dn = d * inv_norm_d;
   if (hit.prim == nullptr && d.z() >= 0.0) {  // sky
     *label = kLabelSky;
     const float up = static_cast<float>(std::min(1.0, dn.z() * 2.0));
@@ -118,17 +114,7 @@ Eigen::Vector3f Materials::Shade(const Eigen::Vector3d& o, const Eigen::Vector3d
       albedo = decal->albedo * (0.9f + 0.1f * tex);
     } else {
       *label = kLabelGround;
-      switch (ground_) {
-        case GroundStyle::kGrass: albedo = Eigen::Vector3f(0.06f, 0.13f, 0.03f) * tex; break;
-        case GroundStyle::kConcrete: {
-          // Expansion joints every 2 m.
-          const double jx = std::fabs(std::remainder(p.x(), 2.0)), jy = std::fabs(std::remainder(p.y(), 2.0));
-          const float joint = (jx < 0.01 || jy < 0.01) ? 0.4f : 1.0f;
-          albedo = Eigen::Vector3f(0.30f, 0.29f, 0.27f) * (tex * joint);
-          break;
-        }
-        default: albedo = Eigen::Vector3f(0.10f, 0.10f, 0.11f) * tex; break;
-      }
+      albedo = GroundAlbedo(p.x(), p.y());
     }
   } else {
     *label = hit.prim->label;
@@ -148,11 +134,10 @@ Eigen::Vector3f Materials::Shade(const Eigen::Vector3d& o, const Eigen::Vector3d
     radiance += Eigen::Vector3f::Constant((shine + (reflective ? 0.3f : 0.0f)) * light.sun * spec);
     if (reflective) radiance += albedo * 0.25f * static_cast<float>(std::max(0.0, -dn.dot(n)));  // retroreflection
   }
-  if (hit.t * d.norm() > 25.0) {  // haze toward the horizon
-    const float fog = static_cast<float>(1.0 - std::exp(-(hit.t * d.norm() - 25.0) / 60.0));
-    radiance = radiance * (1.0f - fog) + Eigen::Vector3f(0.55f, 0.58f, 0.62f) * ((0.6f * light.sun + light.ambient) * fog);
-  }
-  return radiance;
+  return Haze(radiance, hit.t / inv_norm_d, light);
 }
+
+
+
 
 }  // namespace rig_sim

@@ -31,6 +31,7 @@ struct Renderer::Impl {
   Materials materials;
   int width, height, tiles_x, tiles_y;
   std::vector<Eigen::Vector3d> rays;        // per pixel, camera frame, z = 1 (exact undistortion)
+  std::vector<double> inv_norms;            // 1 / |ray|
   std::vector<Eigen::Vector3d> tile_axis;   // unit, camera frame
   std::vector<double> tile_half_angle;      // rad, bounds every pixel ray of the tile
   std::vector<int8_t> noise;                // N(0, sigma) samples
@@ -44,6 +45,8 @@ struct Renderer::Impl {
     rays.resize(static_cast<size_t>(width) * height);
     for (int v = 0; v < height; ++v)
       for (int u = 0; u < width; ++u) rays[static_cast<size_t>(v) * width + u] = camera.PixelRay(u, v);
+    inv_norms.resize(rays.size());
+    for (size_t i = 0; i < rays.size(); ++i) inv_norms[i] = 1.0 / rays[i].norm();
     tile_axis.resize(tiles_x * tiles_y);
     tile_half_angle.resize(tiles_x * tiles_y);
     for (int ty = 0; ty < tiles_y; ++ty)
@@ -110,17 +113,22 @@ struct Renderer::Impl {
   void RenderTileRow(const TruePose& pose, const Lighting& light, const std::vector<std::vector<const Prim*>>& lists,
                      int ty, uint32_t noise_offset, uint8_t* rgb, int16_t* labels) const {
     const bool add_noise = config.noise_sigma_dn > 0.0;
+    const float exposure = static_cast<float>(config.exposure);
     for (int v = ty * kTile; v < std::min(height, (ty + 1) * kTile); ++v) {
       for (int u = 0; u < width; ++u) {
         const size_t i = static_cast<size_t>(v) * width + u;
         const Eigen::Vector3d d = pose.R_cones_camera * rays[i];
         const Prim* decal = nullptr;
         const Hit hit = Trace(pose, d, lists[(v / kTile) * tiles_x + u / kTile], &decal);
-        int16_t label;
-        const Eigen::Vector3f radiance = materials.Shade(pose.p_camera_in_cones_m, d, hit, decal, light, &label);
+        int16_t label = kLabelGround;
+        const Eigen::Vector3d& o = pose.p_camera_in_cones_m;
+        const Eigen::Vector3f radiance =
+            (hit.prim == nullptr && decal == nullptr && d.z() < 0.0)
+                ? materials.ShadeGround(o.x() + hit.t * d.x(), o.y() + hit.t * d.y(), hit.t / inv_norms[i], light)
+                : materials.Shade(o, d, inv_norms[i], hit, decal, light, &label);
         uint8_t* px = rgb + 3 * i;
         for (int c = 0; c < 3; ++c) {
-          int value = materials.Encode(radiance[c] * static_cast<float>(config.exposure));
+          int value = materials.Encode(radiance[c] * exposure);
           if (add_noise) value += noise[(noise_offset + 3 * i + c) & kNoiseMask];
           px[c] = static_cast<uint8_t>(std::clamp(value, 0, 255));
         }
