@@ -81,7 +81,7 @@ struct Renderer::Impl {
       const Eigen::Vector3d qn = inside ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d(q / dist);
       for (int i = 0; i < tiles_x * tiles_y; ++i) {
         const double angle = std::acos(std::clamp(qn.dot(tile_axis[i]), -1.0, 1.0));
-        if (inside || angle <= tile_half_angle[i] + gamma) lists[i].push_back(&p);
+        if (!config.tile_culling || inside || angle <= tile_half_angle[i] + gamma) lists[i].push_back(&p);
       }
     }
     return lists;

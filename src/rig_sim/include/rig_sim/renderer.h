@@ -38,6 +38,7 @@ struct RenderConfig {
   double noise_sigma_dn = 2.0;  // image noise, 8-bit digital numbers, 0 disables
   int threads = 2;
   uint64_t seed = 1;
+  bool tile_culling = true;  // false tests every object on every pixel (the benchmark's naive baseline)
 };
 
 // Per-pixel label values written when a label buffer is given.
