@@ -36,8 +36,8 @@ void CheckSeries(const std::string& topic, const std::vector<R>& v, double t0, d
     const double dt = v[i].stamp_s - v[i - 1].stamp_s;
     if (dt <= 0.0 && mono.ok) {
       mono.ok = false;
-      mono.message = Fmt("stamp at t=%.6f s is not after the previous one (t=%.6f s)", v[i].stamp_s - t0,
-                         v[i - 1].stamp_s - t0);
+      mono.message =
+          Fmt("stamp at t=%.6f s is not after the previous one (t=%.6f s)", v[i].stamp_s - t0, v[i - 1].stamp_s - t0);
     }
     periods.push_back(dt);
     if (dt > worst_gap) worst_gap = dt, worst_at = v[i - 1].stamp_s - t0;
@@ -46,8 +46,8 @@ void CheckSeries(const std::string& topic, const std::vector<R>& v, double t0, d
     const double lat = r.receive_s - r.stamp_s;
     if (lat < -1e-6 || lat > cfg.max_latency_s) {
       latency.ok = false;
-      latency.message = Fmt("bag time minus stamp is %.3f s at t=%.3f s (allowed 0 to %.3f s)", lat,
-                            r.stamp_s - t0, cfg.max_latency_s);
+      latency.message = Fmt("bag time minus stamp is %.3f s at t=%.3f s (allowed 0 to %.3f s)", lat, r.stamp_s - t0,
+                            cfg.max_latency_s);
       break;
     }
     worst_latency = std::max(worst_latency, lat);
@@ -98,15 +98,16 @@ void CheckCameraInfo(const BagContents& bag, double t0, ValidationReport* report
     const InfoRecord& info = bag.infos[j];
     if (info.width != img.width || info.height != img.height || info.frame != img.frame) {
       c.ok = false;
-      c.message = Fmt("at t=%.3f s camera_info says %.0fx%.0f", img.stamp_s - t0, info.width, info.height) +
-                  " in '" + info.frame + "' but the image is " + std::to_string(img.width) + "x" +
-                  std::to_string(img.height) + " in '" + img.frame + "'";
+      c.message = Fmt("at t=%.3f s camera_info says %.0fx%.0f", img.stamp_s - t0, info.width, info.height) + " in '" +
+                  info.frame + "' but the image is " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+                  " in '" + img.frame + "'";
       break;
     }
     if (!(info.fx > 0.0 && info.fy > 0.0) || (info.distortion_model == "plumb_bob" && info.d_size != 5)) {
       c.ok = false;
-      c.message = Fmt("camera_info at t=%.3f s has a bad K or D (fx %.1f, fy %.1f, ", info.stamp_s - t0, info.fx,
-                      info.fy) + info.distortion_model + " with " + std::to_string(info.d_size) + " coefficients)";
+      c.message =
+          Fmt("camera_info at t=%.3f s has a bad K or D (fx %.1f, fy %.1f, ", info.stamp_s - t0, info.fx, info.fy) +
+          info.distortion_model + " with " + std::to_string(info.d_size) + " coefficients)";
       break;
     }
     ++matched;
@@ -127,7 +128,8 @@ std::vector<bool> RestMask(const BagContents& bag) {
       size_t k = j;
       bool still = j < bag.truth.size() && bag.truth[j].stamp_s <= t - 0.24;
       for (; still && k < bag.truth.size() && bag.truth[k].stamp_s <= t + 0.25; ++k)
-        still = (bag.truth[k].p - bag.truth[j].p).norm() < 1e-7 && bag.truth[k].q.angularDistance(bag.truth[j].q) < 1e-7;
+        still =
+            (bag.truth[k].p - bag.truth[j].p).norm() < 1e-7 && bag.truth[k].q.angularDistance(bag.truth[j].q) < 1e-7;
       rest[i] = still && k < bag.truth.size();
     }
     return rest;
@@ -148,7 +150,8 @@ std::vector<bool> RestMask(const BagContents& bag) {
 void CheckImu(const BagContents& bag, double t0, const ValidateConfig& cfg, ValidationReport* report) {
   Check fmt{"imu REP-145 fields", true, "no orientation (covariance[0] = -1), finite values, frame set"};
   for (const ImuRecord& r : bag.imu) {
-    if (r.orientation_covariance0 != -1.0 || !r.gyro_rad_s.allFinite() || !r.accel_m_s2.allFinite() || r.frame.empty()) {
+    if (r.orientation_covariance0 != -1.0 || !r.gyro_rad_s.allFinite() || !r.accel_m_s2.allFinite() ||
+        r.frame.empty()) {
       fmt.ok = false;
       fmt.message = Fmt("sample at t=%.3f s: orientation_covariance[0] = %g (want -1), non-finite values or no frame",
                         r.stamp_s - t0, r.orientation_covariance0);
@@ -161,7 +164,10 @@ void CheckImu(const BagContents& bag, double t0, const ValidateConfig& cfg, Vali
   // Mean over each contiguous rest stretch, so white noise does not fail it.
   size_t stretches = 0, samples = 0;
   for (size_t i = 0; i < rest.size();) {
-    if (!rest[i]) { ++i; continue; }
+    if (!rest[i]) {
+      ++i;
+      continue;
+    }
     size_t k = i;
     Eigen::Vector3d g = Eigen::Vector3d::Zero(), a = g;
     for (; k < rest.size() && rest[k]; ++k) g += bag.imu[k].gyro_rad_s, a += bag.imu[k].accel_m_s2;
@@ -173,7 +179,8 @@ void CheckImu(const BagContents& bag, double t0, const ValidateConfig& cfg, Vali
       norms.ok = false;
       norms.message = Fmt("at rest from t=%.3f s to %.3f s: |accel| %.3f m/s^2 (want %.2f +- %.2f), |gyro| %.4f rad/s",
                           bag.imu[i].stamp_s - t0, bag.imu[k - 1].stamp_s - t0, an, cfg.gravity_m_s2,
-                          cfg.rest_accel_tolerance_m_s2) + Fmt(" (max %.3f)", gn, cfg.rest_gyro_max_rad_s);
+                          cfg.rest_accel_tolerance_m_s2) +
+                      Fmt(" (max %.3f)", gn, cfg.rest_gyro_max_rad_s);
       break;
     }
     i = k;
@@ -207,8 +214,10 @@ ValidationReport ValidateContents(const BagContents& bag, const ValidateConfig& 
   CheckSeries(bag.imu_topic, bag.imu, t0, cfg.imu_rate_hz, 0.0, cfg, &report);
   CheckSeries(bag.image_topic, bag.images, t0, cfg.camera_rate_hz, 0.0, cfg, &report);
   CheckSeries(bag.info_topic, bag.infos, t0, cfg.camera_rate_hz, 0.0, cfg, &report);
-  if (bag.truth.empty()) report.checks.push_back({"ground truth", true, "none in this bag (a real-rig bag?)"});
-  else CheckSeries(bag.truth_topic, bag.truth, t0, 0.0, cfg.min_truth_rate_hz, cfg, &report);
+  if (bag.truth.empty())
+    report.checks.push_back({"ground truth", true, "none in this bag (a real-rig bag?)"});
+  else
+    CheckSeries(bag.truth_topic, bag.truth, t0, 0.0, cfg.min_truth_rate_hz, cfg, &report);
   CheckCameraInfo(bag, t0, &report);
   if (!bag.imu.empty()) CheckImu(bag, t0, cfg, &report);
   return report;

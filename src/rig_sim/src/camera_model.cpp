@@ -27,8 +27,7 @@ std::string CameraConfig::Validate() const {
     err << "fu_px and fv_px must be positive";
   else if (!std::isfinite(cu_px) || !std::isfinite(cv_px))
     err << "cu_px/cv_px must be finite";
-  else if (!std::isfinite(k1) || !std::isfinite(k2) || !std::isfinite(p1) || !std::isfinite(p2) ||
-           !std::isfinite(k3))
+  else if (!std::isfinite(k1) || !std::isfinite(k2) || !std::isfinite(p1) || !std::isfinite(p2) || !std::isfinite(k3))
     err << "distortion coefficients must be finite";
   else if (!(rate_hz > 0.0))
     err << "rate_hz must be positive";

@@ -31,10 +31,10 @@ Eigen::Matrix3d ImuConfig::R_camera_imu() const {
       0, 0, -1,         //
       1, 0, 0;
   const Eigen::Vector3d e = mount_error_rpy_deg * kDeg;
-  const Eigen::Matrix3d error = (Eigen::AngleAxisd(e.z(), Eigen::Vector3d::UnitZ()) *
-                                 Eigen::AngleAxisd(e.y(), Eigen::Vector3d::UnitY()) *
-                                 Eigen::AngleAxisd(e.x(), Eigen::Vector3d::UnitX()))
-                                    .toRotationMatrix();
+  const Eigen::Matrix3d error =
+      (Eigen::AngleAxisd(e.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(e.y(), Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(e.x(), Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
   return nominal * error;
 }
 
@@ -57,9 +57,7 @@ ImuSimulator::ImuSimulator(const ImuConfig& config, const Trajectory& trajectory
   for (int i = 0; i < 3; ++i) accel_bias_m_s2_[i] = config.accel_bias_sigma_m_s2 * normal_(rng_);
 }
 
-Eigen::Matrix3d ImuSimulator::R_cones_imu(double t) const {
-  return trajectory_.At(t).R_cones_camera * R_camera_imu_;
-}
+Eigen::Matrix3d ImuSimulator::R_cones_imu(double t) const { return trajectory_.At(t).R_cones_camera * R_camera_imu_; }
 
 Eigen::Vector3d ImuSimulator::PositionImu(double t) const {
   const TruePose p = trajectory_.At(t);

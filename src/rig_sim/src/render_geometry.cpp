@@ -33,8 +33,8 @@ void IntersectCone(const Prim& p, const Eigen::Vector3d& o_world, const Eigen::V
     if (q.z() > 0.0 || q.z() < -p.height) continue;  // the other nappe, or below the base
     const double rxy = std::sqrt(q.x() * q.x() + q.y() * q.y());
     const double s = std::sqrt(1.0 + p.tau2);
-    Eigen::Vector3d n = rxy > 1e-12 ? Eigen::Vector3d(q.x() / rxy / s, q.y() / rxy / s, p.tau / s)
-                                    : Eigen::Vector3d::UnitZ();
+    Eigen::Vector3d n =
+        rxy > 1e-12 ? Eigen::Vector3d(q.x() / rxy / s, q.y() / rxy / s, p.tau / s) : Eigen::Vector3d::UnitZ();
     hit->t = t;
     hit->normal = n;
     hit->prim = &p;

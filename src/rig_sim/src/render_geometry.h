@@ -21,7 +21,7 @@ struct Prim {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // cone apex; box/decal centre; cylinder base centre
   double cos_yaw = 1.0, sin_yaw = 0.0;
   Eigen::Vector3d half_size = Eigen::Vector3d::Zero();  // box/decal half sizes; cylinder (r, r, height)
-  double height = 0.0, tau2 = 0.0, tau = 0.0;  // cone
+  double height = 0.0, tau2 = 0.0, tau = 0.0;           // cone
   Eigen::Vector3f albedo = Eigen::Vector3f::Zero();
   int cone_index = -1;
 };

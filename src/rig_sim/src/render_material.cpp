@@ -67,7 +67,6 @@ Lighting Materials::LightingAt(double t) const {
   return l;
 }
 
-
 Eigen::Vector3f Materials::ConeAlbedo(const Prim& p, double z, bool* reflective) const {
   const ConeSpec& c = cones_[p.cone_index];
   const double f = (z - c.base_m.z()) / c.height_m;
@@ -92,8 +91,8 @@ Eigen::Vector3f Materials::PersonAlbedo(double z, double h, bool* reflective) co
   return Eigen::Vector3f(0.95f, 0.30f, 0.02f);  // hi-vis orange
 }
 
-Eigen::Vector3f Materials::Shade(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double inv_norm_d,
-                                 const Hit& hit, const Prim* decal, const Lighting& light, int16_t* label) const {
+Eigen::Vector3f Materials::Shade(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double inv_norm_d, const Hit& hit,
+                                 const Prim* decal, const Lighting& light, int16_t* label) const {
   const Eigen::Vector3d dn = d * inv_norm_d;
   if (hit.prim == nullptr && d.z() >= 0.0) {  // sky
     *label = kLabelSky;
@@ -119,9 +118,17 @@ Eigen::Vector3f Materials::Shade(const Eigen::Vector3d& o, const Eigen::Vector3d
   } else {
     *label = hit.prim->label;
     switch (hit.prim->kind) {
-      case PrimKind::kCone: albedo = ConeAlbedo(*hit.prim, p.z(), &reflective); shine = 0.25f; break;
-      case PrimKind::kCylinder: albedo = PersonAlbedo(p.z(), hit.prim->height, &reflective); break;
-      default: albedo = hit.prim->albedo; shine = 0.05f; break;
+      case PrimKind::kCone:
+        albedo = ConeAlbedo(*hit.prim, p.z(), &reflective);
+        shine = 0.25f;
+        break;
+      case PrimKind::kCylinder:
+        albedo = PersonAlbedo(p.z(), hit.prim->height, &reflective);
+        break;
+      default:
+        albedo = hit.prim->albedo;
+        shine = 0.05f;
+        break;
     }
   }
   const float lambert = static_cast<float>(std::max(0.0, n.dot(light.sun_dir)));
@@ -136,8 +143,5 @@ Eigen::Vector3f Materials::Shade(const Eigen::Vector3d& o, const Eigen::Vector3d
   }
   return Haze(radiance, hit.t / inv_norm_d, light);
 }
-
-
-
 
 }  // namespace rig_sim

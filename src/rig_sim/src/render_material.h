@@ -58,7 +58,6 @@ class Materials {
   uint8_t lut_[kLutSize];
 };
 
-
 // Inline: these run for most pixels of every frame.
 inline float Materials::Texture(double x, double y) const {
   // Truncation of a positive number is floor: the offset keeps it positive within 20 km.
@@ -83,7 +82,8 @@ inline Eigen::Vector3f Materials::Haze(const Eigen::Vector3f& radiance, double r
 inline Eigen::Vector3f Materials::GroundAlbedo(double x, double y) const {
   const float tex = Texture(x, y);
   switch (ground_) {
-    case GroundStyle::kGrass: return Eigen::Vector3f(0.06f, 0.13f, 0.03f) * tex;
+    case GroundStyle::kGrass:
+      return Eigen::Vector3f(0.06f, 0.13f, 0.03f) * tex;
     case GroundStyle::kConcrete: {
       // Expansion joints every 2 m, 2 cm wide.
       const double fx = x * 0.5 + 4096.0, fy = y * 0.5 + 4096.0;
@@ -91,7 +91,8 @@ inline Eigen::Vector3f Materials::GroundAlbedo(double x, double y) const {
       const bool joint = jx < 0.005 || jx > 0.995 || jy < 0.005 || jy > 0.995;
       return Eigen::Vector3f(0.30f, 0.29f, 0.27f) * (tex * (joint ? 0.4f : 1.0f));
     }
-    default: return Eigen::Vector3f(0.10f, 0.10f, 0.11f) * tex;
+    default:
+      return Eigen::Vector3f(0.10f, 0.10f, 0.11f) * tex;
   }
 }
 

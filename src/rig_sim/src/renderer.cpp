@@ -30,17 +30,21 @@ struct Renderer::Impl {
   std::vector<Prim> prims;
   Materials materials;
   int width, height, tiles_x, tiles_y;
-  std::vector<Eigen::Vector3d> rays;        // per pixel, camera frame, z = 1 (exact undistortion)
-  std::vector<double> inv_norms;            // 1 / |ray|
-  std::vector<Eigen::Vector3f> rays_f;      // the same rays in single precision, for bare ground
-  std::vector<float> norms_f;               // |ray|
-  std::vector<Eigen::Vector3d> tile_axis;   // unit, camera frame
-  std::vector<double> tile_half_angle;      // rad, bounds every pixel ray of the tile
-  std::vector<int8_t> noise;                // N(0, sigma) samples
+  std::vector<Eigen::Vector3d> rays;       // per pixel, camera frame, z = 1 (exact undistortion)
+  std::vector<double> inv_norms;           // 1 / |ray|
+  std::vector<Eigen::Vector3f> rays_f;     // the same rays in single precision, for bare ground
+  std::vector<float> norms_f;              // |ray|
+  std::vector<Eigen::Vector3d> tile_axis;  // unit, camera frame
+  std::vector<double> tile_half_angle;     // rad, bounds every pixel ray of the tile
+  std::vector<int8_t> noise;               // N(0, sigma) samples
   static constexpr uint32_t kNoiseMask = (1u << 20) - 1;
 
   Impl(const CameraModel& cam, const Scene& scene, const RenderConfig& cfg)
-      : camera(cam), config(cfg), prims(BuildPrims(scene)), materials(scene, cfg), width(cam.config().width_px),
+      : camera(cam),
+        config(cfg),
+        prims(BuildPrims(scene)),
+        materials(scene, cfg),
+        width(cam.config().width_px),
         height(cam.config().height_px) {
     tiles_x = (width + kTile - 1) / kTile;
     tiles_y = (height + kTile - 1) / kTile;
@@ -104,10 +108,17 @@ struct Renderer::Impl {
     *decal = nullptr;
     for (const Prim* p : list) {
       switch (p->kind) {
-        case PrimKind::kCone: IntersectCone(*p, o, d, &hit); break;
-        case PrimKind::kBox: IntersectBox(*p, o, d, &hit); break;
-        case PrimKind::kCylinder: IntersectCylinder(*p, o, d, &hit); break;
-        case PrimKind::kDecal: break;
+        case PrimKind::kCone:
+          IntersectCone(*p, o, d, &hit);
+          break;
+        case PrimKind::kBox:
+          IntersectBox(*p, o, d, &hit);
+          break;
+        case PrimKind::kCylinder:
+          IntersectCylinder(*p, o, d, &hit);
+          break;
+        case PrimKind::kDecal:
+          break;
       }
     }
     if (hit.prim == nullptr && d.z() < 0.0) {
@@ -199,9 +210,12 @@ RayHit Renderer::TracePixel(const TruePose& pose, int u, int v) const {
   const Eigen::Vector3d d = pose.R_cones_camera * m.rays[static_cast<size_t>(v) * m.width + u];
   const Prim* decal = nullptr;  // the same Trace as ShadePixel
   const Hit hit = m.Trace(pose, d, lists[(v / kTile) * m.tiles_x + u / kTile], &decal);
-  if (hit.prim) out.label = hit.prim->label;
-  else if (d.z() < 0.0) out.label = decal && decal->label != 0 ? decal->label : kLabelGround;
-  else return out;
+  if (hit.prim)
+    out.label = hit.prim->label;
+  else if (d.z() < 0.0)
+    out.label = decal && decal->label != 0 ? decal->label : kLabelGround;
+  else
+    return out;
   out.t = hit.t;
   out.p_in_cones_m = pose.p_camera_in_cones_m + hit.t * d;
   return out;

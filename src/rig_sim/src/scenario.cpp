@@ -17,13 +17,15 @@ Segment LookAway(double start_s, double duration_s, double pan_deg) {
 
 const std::vector<ScenarioInfo>& ListScenarios() {
   static const std::vector<ScenarioInfo> list = {
-      {"handheld", "60 s walk around the default three road cones at 1.5-4 m: still start (3 s), shakes, "
-                   "a 4 s stretch with the cones out of view, another still"},
+      {"handheld",
+       "60 s walk around the default three road cones at 1.5-4 m: still start (3 s), shakes, "
+       "a 4 s stretch with the cones out of view, another still"},
       {"still", "10 s with the rig at rest (gyro bias and gravity calibration)"},
       {"shake", "20 s with fast shakes up to ~200 deg/s"},
       {"look_away", "20 s with a 6 s stretch panned away from the cones (the gyro experiment, 7.3)"},
-      {"clutter", "30 s around an asymmetric four-cone layout on grass among orange boxes, patches and a "
-                  "person in hi-vis, with stronger lighting changes"},
+      {"clutter",
+       "30 s around an asymmetric four-cone layout on grass among orange boxes, patches and a "
+       "person in hi-vis, with stronger lighting changes"},
       {"stacked", "20 s around stacked cones on concrete"},
       {"indoor", "20 s around the thesis's three 4\" plain cones at 0.5-1.2 m, indoors"},
   };

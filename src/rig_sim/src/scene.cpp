@@ -33,9 +33,12 @@ double ReadDouble(const YAML::Node& parent, const char* key, double fallback) {
 ConeSpec ReadCone(const YAML::Node& n) {
   const std::string style_name = n["style"] ? n["style"].as<std::string>() : "road";
   ConeStyle style;
-  if (style_name == "road") style = ConeStyle::kRoad;
-  else if (style_name == "plain") style = ConeStyle::kPlain;
-  else throw std::runtime_error("style must be 'road' or 'plain', got '" + style_name + "'");
+  if (style_name == "road")
+    style = ConeStyle::kRoad;
+  else if (style_name == "plain")
+    style = ConeStyle::kPlain;
+  else
+    throw std::runtime_error("style must be 'road' or 'plain', got '" + style_name + "'");
   const double h = ReadDouble(n, "height_m", 0.71);
   if (h < kMinConeHeightM - 1e-9 || h > kMaxConeHeightM)
     throw std::runtime_error("height_m must be in [0.10, 0.92] m (4\" to 36\")");
@@ -103,10 +106,14 @@ void ParseRoot(const YAML::Node& root, Scene* out) {
   }
   if (root["ground"]) {
     const std::string g = root["ground"].as<std::string>();
-    if (g == "asphalt") s.ground = GroundStyle::kAsphalt;
-    else if (g == "grass") s.ground = GroundStyle::kGrass;
-    else if (g == "concrete") s.ground = GroundStyle::kConcrete;
-    else throw std::runtime_error("ground must be asphalt, grass or concrete, got '" + g + "'");
+    if (g == "asphalt")
+      s.ground = GroundStyle::kAsphalt;
+    else if (g == "grass")
+      s.ground = GroundStyle::kGrass;
+    else if (g == "concrete")
+      s.ground = GroundStyle::kConcrete;
+    else
+      throw std::runtime_error("ground must be asphalt, grass or concrete, got '" + g + "'");
   }
   *out = s;
 }
@@ -137,8 +144,8 @@ Scene EquilateralScene(double side_m, double height_m, ConeStyle style) {
   const double circumradius = side_m / std::sqrt(3.0);
   for (int i = 0; i < 3; ++i) {
     const double a = 2.0 * kPi * i / 3.0;
-    s.cones.push_back(MakeCone(Eigen::Vector3d(circumradius * std::cos(a), circumradius * std::sin(a), 0.0),
-                               height_m, style));
+    s.cones.push_back(
+        MakeCone(Eigen::Vector3d(circumradius * std::cos(a), circumradius * std::sin(a), 0.0), height_m, style));
   }
   return s;
 }

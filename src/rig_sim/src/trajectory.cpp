@@ -32,7 +32,8 @@ double SmoothStep(double x) {
 
 std::string TrajectoryConfig::Validate() const {
   std::ostringstream err;
-  if (!(duration_s > 0.0)) err << "duration_s must be positive";
+  if (!(duration_s > 0.0))
+    err << "duration_s must be positive";
   else if (!(min_distance_m > 0.2 && max_distance_m >= min_distance_m))
     err << "need 0.2 < min_distance_m <= max_distance_m";
   else if (!(min_elevation_deg >= 0.0 && max_elevation_deg <= 85.0 && min_elevation_deg <= max_elevation_deg))
@@ -82,12 +83,15 @@ double Trajectory::Warp(double t) const {
     const double r = seg.ramp_s, hold = seg.duration_s - 2.0 * r;
     const double x = t - seg.start_s;
     double integral;
-    if (x < r) integral = r * SmoothStepIntegral(x / r);
-    else if (x < r + hold) integral = 0.5 * r + (x - r);
+    if (x < r)
+      integral = r * SmoothStepIntegral(x / r);
+    else if (x < r + hold)
+      integral = 0.5 * r + (x - r);
     else if (x < 2.0 * r + hold) {
       const double y = (x - r - hold) / r;
       integral = 0.5 * r + hold + r * (y - SmoothStepIntegral(y));
-    } else integral = seg.duration_s - r;
+    } else
+      integral = seg.duration_s - r;
     s -= integral;
   }
   return s;
@@ -117,9 +121,10 @@ TruePose Trajectory::BaseAt(double s) const {
   const double elev = mid_e + half_e * (0.75 * wave(3, s) + 0.2 * wave(4, s));
   const Eigen::Vector3d target(wander_m * wave(5, s), wander_m * wave(4, 1.3 * s), c.look_target_height_m);
   const Eigen::Vector3d tremor_m = 0.004 * Eigen::Vector3d(wave(6, s), wave(7, s), wave(8, s));
-  const Eigen::Vector3d p = target + dist * Eigen::Vector3d(std::cos(elev) * std::cos(azimuth),
-                                                            std::cos(elev) * std::sin(azimuth), std::sin(elev)) +
-                            tremor_m;
+  const Eigen::Vector3d p =
+      target +
+      dist * Eigen::Vector3d(std::cos(elev) * std::cos(azimuth), std::cos(elev) * std::sin(azimuth), std::sin(elev)) +
+      tremor_m;
   // Look at the target: z forward, x right, y down (camera_optical).
   const Eigen::Vector3d z = (target - p).normalized();
   const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();

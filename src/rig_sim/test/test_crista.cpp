@@ -24,8 +24,8 @@ TEST(Crista, HighSpeedPacketLayout) {
   s.accel_raw[2] = 3278;  // ~ +1 g: 9.81 m/s^2 / (196.1 / 65536)
   const std::vector<uint8_t> p = EncodeCristaHighSpeed(s, 0x01020304u, 7, 200);
   ASSERT_EQ(p.size(), kCristaHighSpeedPacket);
-  const std::vector<uint8_t> head = {0x55, 0xAA, 0xFF, 18, 0x00, 0x01, 0xFF, 0xFE, 0x12, 0x34,
-                                     0x80, 0x00, 0x7F, 0xFF, 0x0C, 0xCE, 0x01, 0x02, 0x03, 0x04, 7, 200};
+  const std::vector<uint8_t> head = {0x55, 0xAA, 0xFF, 18,   0x00, 0x01, 0xFF, 0xFE, 0x12, 0x34, 0x80,
+                                     0x00, 0x7F, 0xFF, 0x0C, 0xCE, 0x01, 0x02, 0x03, 0x04, 7,    200};
   EXPECT_EQ(std::vector<uint8_t>(p.begin(), p.begin() + 22), head);
   const uint16_t crc = Crc16Arc(p.data(), 22);
   EXPECT_EQ(p[22], crc >> 8);

@@ -120,13 +120,13 @@ TEST(Renderer, ConesAreOrangeCollarsWhiteAndTheImageIsNotFlat) {
     if (f.labels[i] < kLabelFirstCone || f.labels[i] >= kLabelFirstDistractor) continue;
     const uint8_t* p = &f.rgb[3 * i];
     ++cone;
-    if (p[0] > 120 && p[0] > p[1] + 60 && p[1] > p[2]) ++orange, min_r = std::min<double>(min_r, p[0]),
-                                                                 max_r = std::max<double>(max_r, p[0]);
+    if (p[0] > 120 && p[0] > p[1] + 60 && p[1] > p[2])
+      ++orange, min_r = std::min<double>(min_r, p[0]), max_r = std::max<double>(max_r, p[0]);
     if (p[0] > 170 && p[1] > 170 && p[2] > 170) ++white;
   }
   EXPECT_GT(orange, cone / 2);
-  EXPECT_GT(white, cone / 10);          // road cones carry white collars
-  EXPECT_GT(max_r - min_r, 30.0);       // shaded, not flat
+  EXPECT_GT(white, cone / 10);     // road cones carry white collars
+  EXPECT_GT(max_r - min_r, 30.0);  // shaded, not flat
 }
 
 TEST(Renderer, DeterministicPerSeedAndFrameAndIndependentOfThreads) {

@@ -44,7 +44,9 @@ boxes: [{x_m: 2, y_m: 1, sx_m: 0.5, sy_m: 0.5, sz_m: 0.2}]
 patches: [{x_m: -1, y_m: 1}]
 people: [{x_m: 3, y_m: 3}]
 ground: grass
-)", &s, &err)) << err;
+)",
+                             &s, &err))
+      << err;
   ASSERT_EQ(s.cones.size(), 2u);
   EXPECT_NEAR(s.cones[1].base_m.z(), 0.02, 1e-12);
   EXPECT_TRUE(s.cones[0].collars.empty());

@@ -94,3 +94,27 @@ TEST(Trajectory, OverlappingSegmentsAndBadRangesAreRefused) {
 }
 
 }  // namespace rig_sim
+
+namespace rig_sim {
+
+TEST(Trajectory, EveryScenarioStaysWithinTheCristaRangesAndItsDistances) {
+  for (const ScenarioInfo& info : ListScenarios()) {
+    const Scenario s = TestScenario(info.name, 1, 0, 0);
+    const Trajectory traj(s.trajectory);
+    ImuConfig cfg = s.imu;
+    cfg.noise_enabled = false;
+    ImuSimulator imu(cfg, traj);
+    const int n = static_cast<int>(s.trajectory.duration_s * cfg.rate_hz) - 1;
+    for (int k = 0; k < n; ++k) {
+      const ImuSample smp = imu.Next();
+      ASSERT_FALSE(smp.saturated) << info.name << " at " << smp.stamp_s << " s";
+      const TruePose p = traj.At(smp.stamp_s);
+      const double d = (p.p_camera_in_cones_m - Eigen::Vector3d(0, 0, s.trajectory.look_target_height_m)).norm();
+      ASSERT_GE(d, s.trajectory.min_distance_m) << info.name;
+      ASSERT_LE(d, s.trajectory.max_distance_m) << info.name;
+      ASSERT_GT(p.p_camera_in_cones_m.z(), 0.1) << info.name;  // never under the ground
+    }
+  }
+}
+
+}  // namespace rig_sim

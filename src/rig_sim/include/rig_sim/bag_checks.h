@@ -16,9 +16,9 @@ struct ValidateConfig {
   double imu_rate_hz = 100.0;    // expected; 0 skips the rate check
   double camera_rate_hz = 30.0;  // expected; 0 skips the rate check
   double min_truth_rate_hz = 100.0;
-  double rate_tolerance = 0.05;    // relative, on the median period
-  double max_gap_factor = 3.0;     // a gap above this many median periods fails
-  double max_latency_s = 1.0;      // bag (receive) time minus header stamp
+  double rate_tolerance = 0.05;  // relative, on the median period
+  double max_gap_factor = 3.0;   // a gap above this many median periods fails
+  double max_latency_s = 1.0;    // bag (receive) time minus header stamp
   double gravity_m_s2 = 9.81;
   double rest_accel_tolerance_m_s2 = 0.2;  // on the mean over a rest stretch
   double rest_gyro_max_rad_s = 0.05;       // mean over a rest stretch (turn-on bias included)

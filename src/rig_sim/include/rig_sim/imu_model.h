@@ -31,7 +31,7 @@ struct ImuConfig {
   // Noise (per-sample standard deviations at rate_hz, and random walks per sqrt(s)).
   bool noise_enabled = true;
   double gyro_noise_deg_s = 0.12;
-  double gyro_bias_sigma_deg_s = 0.4;          // turn-on bias, drawn once per seed
+  double gyro_bias_sigma_deg_s = 0.4;  // turn-on bias, drawn once per seed
   double gyro_bias_walk_deg_s_sqrt_s = 0.004;
   double accel_noise_m_s2 = 0.03;
   double accel_bias_sigma_m_s2 = 0.05;
@@ -53,7 +53,7 @@ struct ImuSample {
   double stamp_s = 0.0;
   Eigen::Vector3d omega_imu_rad_s = Eigen::Vector3d::Zero();
   Eigen::Vector3d accel_imu_m_s2 = Eigen::Vector3d::Zero();  // specific force
-  int16_t gyro_raw[3] = {0, 0, 0};   // Crista counts (valid when quantize)
+  int16_t gyro_raw[3] = {0, 0, 0};                           // Crista counts (valid when quantize)
   int16_t accel_raw[3] = {0, 0, 0};
   bool saturated = false;
   // Truth for this sample, for tests and the ground truth topics.

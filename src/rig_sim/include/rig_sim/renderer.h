@@ -25,9 +25,9 @@ namespace rig_sim {
 struct LightingConfig {
   double sun_elevation_deg = 50.0;
   double sun_azimuth_deg = 30.0;
-  double sun_irradiance = 0.85;   // relative; 1 is a bright clear day
-  double ambient = 0.30;          // sky light
-  double variation = 0.2;         // relative swing of the sun (passing clouds)
+  double sun_irradiance = 0.85;  // relative; 1 is a bright clear day
+  double ambient = 0.30;         // sky light
+  double variation = 0.2;        // relative swing of the sun (passing clouds)
   double variation_period_s = 17.0;
   double azimuth_drift_deg_s = 0.5;
 };
@@ -44,7 +44,7 @@ struct RenderConfig {
 // Per-pixel label values written when a label buffer is given.
 constexpr int16_t kLabelSky = -1;
 constexpr int16_t kLabelGround = 0;
-constexpr int16_t kLabelFirstCone = 1;         // cone i -> 1 + i
+constexpr int16_t kLabelFirstCone = 1;  // cone i -> 1 + i
 constexpr int16_t kLabelFirstDistractor = 1000;
 
 struct RayHit {

@@ -17,8 +17,8 @@ enum class SegmentKind { kStill, kShake, kLookAway };
 struct Segment {
   SegmentKind kind = SegmentKind::kStill;
   double start_s = 0.0;
-  double duration_s = 2.0;  // including both ramps
-  double ramp_s = 0.5;      // C2 smooth step in and out
+  double duration_s = 2.0;     // including both ramps
+  double ramp_s = 0.5;         // C2 smooth step in and out
   double amplitude_deg = 0.0;  // shake: per-axis amplitude; look-away: pan angle
   double frequency_hz = 0.0;   // shake only
 };
@@ -30,15 +30,15 @@ struct TrajectoryConfig {
   double max_distance_m = 4.0;
   double min_elevation_deg = 15.0;  // of the camera above the look target
   double max_elevation_deg = 40.0;
-  double orbit_rate_deg_s = 8.0;    // mean walk around the cones
+  double orbit_rate_deg_s = 8.0;  // mean walk around the cones
   double look_target_height_m = 0.3;
-  double jitter_deg = 1.5;          // hand tremor amplitude
-  std::vector<Segment> segments;    // must not overlap
+  double jitter_deg = 1.5;        // hand tremor amplitude
+  std::vector<Segment> segments;  // must not overlap
   std::string Validate() const;
 };
 
 struct TruePose {
-  Eigen::Matrix3d R_cones_camera;   // p_cones = R p_camera + t
+  Eigen::Matrix3d R_cones_camera;  // p_cones = R p_camera + t
   Eigen::Vector3d p_camera_in_cones_m;
 };
 
@@ -56,7 +56,7 @@ class Trajectory {
   bool IsStill(double t_s) const;
 
  private:
-  double Warp(double t_s) const;           // motion time s(t): stops in still segments
+  double Warp(double t_s) const;  // motion time s(t): stops in still segments
   double Window(const Segment& seg, double t_s) const;
   TruePose BaseAt(double s) const;
 

@@ -10,9 +10,12 @@ bool WriteScenarioBag(const Scenario& scenario, const BagOptions& opt, const std
   try {
     rosbag::Bag bag;
     bag.open(path, rosbag::bagmode::Write);
-    if (opt.compression == "lz4") bag.setCompression(rosbag::compression::LZ4);
-    else if (opt.compression == "bz2") bag.setCompression(rosbag::compression::BZ2);
-    else if (opt.compression != "none") throw std::invalid_argument("compression must be none, lz4 or bz2");
+    if (opt.compression == "lz4")
+      bag.setCompression(rosbag::compression::LZ4);
+    else if (opt.compression == "bz2")
+      bag.setCompression(rosbag::compression::BZ2);
+    else if (opt.compression != "none")
+      throw std::invalid_argument("compression must be none, lz4 or bz2");
     SimStream stream(scenario, opt.stream);
     const ros::Time t0 = StampAt(opt.start_time_s, 0.0);
     auto latched = boost::make_shared<ros::M_string>();

@@ -43,17 +43,29 @@ int main(int argc, char** argv) {
       return argv[++i];
     };
     try {
-      if (a == "--help" || a == "-h") { Usage(); return 0; }
-      else if (a == "--scenario") scenario_name = value();
-      else if (a == "--seed") seed = std::stoull(value());
-      else if (a == "--output" || a == "-o") output = value();
-      else if (a == "--duration") duration = std::stod(value());
-      else if (a == "--scale") scale = std::stod(value());
-      else if (a == "--camera-delay-ms") delay_ms = std::stod(value());
-      else if (a == "--compression") compression = value();
-      else if (a == "--noise-sigma") noise = std::stod(value());
-      else if (a == "--layouts") layouts = value();
-      else if (a == "--layout") layout_file = value();
+      if (a == "--help" || a == "-h") {
+        Usage();
+        return 0;
+      } else if (a == "--scenario")
+        scenario_name = value();
+      else if (a == "--seed")
+        seed = std::stoull(value());
+      else if (a == "--output" || a == "-o")
+        output = value();
+      else if (a == "--duration")
+        duration = std::stod(value());
+      else if (a == "--scale")
+        scale = std::stod(value());
+      else if (a == "--camera-delay-ms")
+        delay_ms = std::stod(value());
+      else if (a == "--compression")
+        compression = value();
+      else if (a == "--noise-sigma")
+        noise = std::stod(value());
+      else if (a == "--layouts")
+        layouts = value();
+      else if (a == "--layout")
+        layout_file = value();
       else {
         std::fprintf(stderr, "make_bag: unknown argument '%s' (see --help)\n", a.c_str());
         return 2;
@@ -90,11 +102,12 @@ int main(int argc, char** argv) {
     return 1;
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("make_bag: %s seed %llu: %.1f s, %llu images %dx%d, %llu IMU, %llu truth -> %s in %.1f s "
-              "(rendering %.1f s)\n",
-              scenario.name.c_str(), static_cast<unsigned long long>(seed), scenario.trajectory.duration_s,
-              static_cast<unsigned long long>(stats.images), scenario.camera.width_px, scenario.camera.height_px,
-              static_cast<unsigned long long>(stats.imu), static_cast<unsigned long long>(stats.truth),
-              output.c_str(), wall, stats.render_s);
+  std::printf(
+      "make_bag: %s seed %llu: %.1f s, %llu images %dx%d, %llu IMU, %llu truth -> %s in %.1f s "
+      "(rendering %.1f s)\n",
+      scenario.name.c_str(), static_cast<unsigned long long>(seed), scenario.trajectory.duration_s,
+      static_cast<unsigned long long>(stats.images), scenario.camera.width_px, scenario.camera.height_px,
+      static_cast<unsigned long long>(stats.imu), static_cast<unsigned long long>(stats.truth), output.c_str(), wall,
+      stats.render_s);
   return 0;
 }

@@ -19,12 +19,18 @@ bool LoadSimPublisherConfig(const ros::NodeHandle& pnh, SimPublisherConfig* c, s
   pnh.param("serial_link", out.serial_link, out.serial_link);
   pnh.param("layouts_dir", out.layouts_dir, std::string(RIG_SIM_LAYOUTS_DIR));
   std::string err;
-  if (out.seed < 0) err = "~seed must be >= 0";
-  else if (!(out.image_scale > 0.0 && out.image_scale <= 4.0)) err = "~image_scale must be in (0, 4]";
-  else if (out.duration_s < 0.0) err = "~duration_s must be >= 0";
-  else if (!(out.realtime_factor > 0.0 && out.realtime_factor <= 100.0)) err = "~realtime_factor must be in (0, 100]";
-  else if (!(out.camera_delay_ms >= 0.0 && out.camera_delay_ms <= 1000.0)) err = "~camera_delay_ms must be in [0, 1000]";
-  else if (!(out.start_time_s > 0.0)) err = "~start_time_s must be positive";
+  if (out.seed < 0)
+    err = "~seed must be >= 0";
+  else if (!(out.image_scale > 0.0 && out.image_scale <= 4.0))
+    err = "~image_scale must be in (0, 4]";
+  else if (out.duration_s < 0.0)
+    err = "~duration_s must be >= 0";
+  else if (!(out.realtime_factor > 0.0 && out.realtime_factor <= 100.0))
+    err = "~realtime_factor must be in (0, 100]";
+  else if (!(out.camera_delay_ms >= 0.0 && out.camera_delay_ms <= 1000.0))
+    err = "~camera_delay_ms must be in [0, 1000]";
+  else if (!(out.start_time_s > 0.0))
+    err = "~start_time_s must be positive";
   if (!err.empty()) {
     if (error) *error = err;
     return false;
@@ -109,7 +115,8 @@ void SimPublisher::Publish(const SimEvent& ev) {
     }
     case EventKind::kImage: {
       const sensor_msgs::ImagePtr img = frames_->Pop();
-      sensor_msgs::CameraInfoPtr info(new sensor_msgs::CameraInfo(MakeCameraInfo(scenario_.camera, stamp, frames_names_.camera)));
+      sensor_msgs::CameraInfoPtr info(
+          new sensor_msgs::CameraInfo(MakeCameraInfo(scenario_.camera, stamp, frames_names_.camera)));
       camera_pub_.publish(img, info);  // never touched again: zero copy to nodelets in the same manager
       ++images_;
       break;
@@ -132,8 +139,10 @@ void SimPublisher::Run() {
     }
     const double due_s = (pass_offset_s + ev.deliver_s) / config_.realtime_factor;
     const double wait_s = due_s - (ros::WallTime::now() - wall0).toSec();
-    if (wait_s > 0.0) ros::WallDuration(wait_s).sleep();
-    else if (wait_s < -0.02) ++late_events_;
+    if (wait_s > 0.0)
+      ros::WallDuration(wait_s).sleep();
+    else if (wait_s < -0.02)
+      ++late_events_;
     if (clock_pub_) {
       rosgraph_msgs::Clock clock;
       clock.clock = StampAt(pass_start_s_, ev.deliver_s);

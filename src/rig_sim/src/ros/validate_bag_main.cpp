@@ -11,14 +11,19 @@ int main(int argc, char** argv) {
     const std::string a = argv[i];
     const bool has_value = i + 1 < argc;
     if (a == "--help" || a == "-h") {
-      std::printf("usage: validate_bag FILE.bag [--imu-rate HZ] [--camera-rate HZ] [--max-gap-factor F]\n"
-                  "Checks topic rates, gaps, monotonic stamps, IMU norms at rest and that camera_info\n"
-                  "matches the images. Exit status 0 when every check passes, 1 otherwise.\n");
+      std::printf(
+          "usage: validate_bag FILE.bag [--imu-rate HZ] [--camera-rate HZ] [--max-gap-factor F]\n"
+          "Checks topic rates, gaps, monotonic stamps, IMU norms at rest and that camera_info\n"
+          "matches the images. Exit status 0 when every check passes, 1 otherwise.\n");
       return 0;
-    } else if (a == "--imu-rate" && has_value) cfg.imu_rate_hz = std::stod(argv[++i]);
-    else if (a == "--camera-rate" && has_value) cfg.camera_rate_hz = std::stod(argv[++i]);
-    else if (a == "--max-gap-factor" && has_value) cfg.max_gap_factor = std::stod(argv[++i]);
-    else if (path.empty() && a[0] != '-') path = a;
+    } else if (a == "--imu-rate" && has_value)
+      cfg.imu_rate_hz = std::stod(argv[++i]);
+    else if (a == "--camera-rate" && has_value)
+      cfg.camera_rate_hz = std::stod(argv[++i]);
+    else if (a == "--max-gap-factor" && has_value)
+      cfg.max_gap_factor = std::stod(argv[++i]);
+    else if (path.empty() && a[0] != '-')
+      path = a;
     else {
       std::fprintf(stderr, "validate_bag: bad argument '%s' (see --help)\n", a.c_str());
       return 2;

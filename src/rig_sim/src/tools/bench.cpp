@@ -41,10 +41,12 @@ double OpenCvFlatMs(const rig_sim::Scenario& s, int frames) {
     for (const rig_sim::ConeSpec& cone : s.scene.cones) {
       const Eigen::Vector3d side = pose.R_cones_camera.col(0) * cone.radius_m();
       std::vector<cv::Point> tri;
-      for (const Eigen::Vector3d& p : {cone.peak_m(), Eigen::Vector3d(cone.base_m + side), Eigen::Vector3d(cone.base_m - side)}) {
+      for (const Eigen::Vector3d& p :
+           {cone.peak_m(), Eigen::Vector3d(cone.base_m + side), Eigen::Vector3d(cone.base_m - side)}) {
         const Eigen::Vector3d q = pose.R_cones_camera.transpose() * (p - pose.p_camera_in_cones_m);
         if (q.z() <= 0.1) break;
-        tri.emplace_back(static_cast<int>(c.fu_px * q.x() / q.z() + c.cu_px), static_cast<int>(c.fv_px * q.y() / q.z() + c.cv_px));
+        tri.emplace_back(static_cast<int>(c.fu_px * q.x() / q.z() + c.cu_px),
+                         static_cast<int>(c.fv_px * q.y() / q.z() + c.cv_px));
       }
       if (tri.size() == 3) cv::fillConvexPoly(img, tri, cv::Scalar(255, 100, 20), cv::LINE_AA);
     }

@@ -20,15 +20,15 @@ struct SimPublisherConfig {
   std::string scenario = "handheld";
   int seed = 1;
   double image_scale = 1.0;
-  double duration_s = 0.0;      // 0: the scenario's own
+  double duration_s = 0.0;  // 0: the scenario's own
   double realtime_factor = 1.0;
   double camera_delay_ms = 0.0;
   double start_time_s = 1700000000.0;
-  bool loop = false;            // restart at the end, time continuing forward
+  bool loop = false;  // restart at the end, time continuing forward
   bool publish_clock = true;
   bool serial_pty = false;
   std::string serial_link = "/tmp/rig_sim_crista";  // symlink to the pty slave
-  std::string layouts_dir;      // default: the package's config/layouts
+  std::string layouts_dir;                          // default: the package's config/layouts
 };
 
 // Reads ~parameters; returns false with a message naming the bad parameter.
