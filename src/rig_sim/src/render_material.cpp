@@ -94,11 +94,9 @@ Eigen::Vector3f Materials::PersonAlbedo(double z, double h, bool* reflective) co
 Eigen::Vector3f Materials::Shade(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double inv_norm_d, const Hit& hit,
                                  const Prim* decal, const Lighting& light, int16_t* label) const {
   const Eigen::Vector3d dn = d * inv_norm_d;
-  if (hit.prim == nullptr && d.z() >= 0.0) {  // sky
+  if (hit.prim == nullptr && d.z() >= 0.0) {
     *label = kLabelSky;
-    const float up = static_cast<float>(std::min(1.0, dn.z() * 2.0));
-    const Eigen::Vector3f horizon(0.70f, 0.76f, 0.85f), zenith(0.25f, 0.42f, 0.80f);
-    return (horizon * (1.0f - up) + zenith * up) * (0.6f * light.sun + light.ambient);
+    return ShadeSky(static_cast<float>(dn.z()), light);
   }
   const Eigen::Vector3d p = o + hit.t * d;
   Eigen::Vector3f albedo;

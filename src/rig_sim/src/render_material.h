@@ -33,10 +33,15 @@ class Materials {
                         const Prim* decal, const Lighting& light, int16_t* label) const;
   // Fast path for the commonest pixel, bare ground lit by `light` at point (x, y) and range r.
   Eigen::Vector3f ShadeGround(double x_m, double y_m, double range_m, const Lighting& light) const;
+  // Sky seen along a direction whose unit vector has vertical component up_z >= 0.
+  Eigen::Vector3f ShadeSky(float up_z, const Lighting& light) const {
+    const float up = std::min(1.0f, 2.0f * up_z);
+    const Eigen::Vector3f horizon(0.70f, 0.76f, 0.85f), zenith(0.25f, 0.42f, 0.80f);
+    return (horizon * (1.0f - up) + zenith * up) * (0.6f * light.sun + light.ambient);
+  }
   // Linear radiance -> sRGB 8-bit value.
-  int Encode(float linear) const {
-    const int i = static_cast<int>(linear * kLutScale);
-    return lut_[i < 0 ? 0 : (i >= kLutSize ? kLutSize - 1 : i)];
+  int Encode(float linear) const {  // linear >= 0: every shading term is non-negative
+    return lut_[std::min(static_cast<int>(linear * kLutScale), kLutSize - 1)];
   }
 
  private:

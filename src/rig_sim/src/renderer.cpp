@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <random>
+#include <stdexcept>
 #include <thread>
 
 #include "render_geometry.h"
@@ -76,7 +77,9 @@ struct Renderer::Impl {
         tile_axis[ty * tiles_x + tx] = axis;
         tile_half_angle[ty * tiles_x + tx] = max_angle + 1e-6;
       }
-    noise.resize(kNoiseMask + 1);
+    if (!(cfg.exposure >= 0.0) || !(cfg.noise_sigma_dn >= 0.0) || cfg.noise_sigma_dn > 50.0)
+      throw std::invalid_argument("RenderConfig: exposure must be >= 0 and noise_sigma_dn in [0, 50]");
+    noise.resize(kNoiseMask + 1 + 3 * static_cast<size_t>(width));  // a row never wraps
     std::mt19937_64 rng(SplitMix64(cfg.seed ^ 0x6e6f697365ull));
     std::normal_distribution<double> normal(0.0, std::max(0.0, cfg.noise_sigma_dn));
     for (auto& n : noise) n = static_cast<int8_t>(std::clamp(std::lround(normal(rng)), -127l, 127l));
@@ -150,6 +153,7 @@ struct Renderer::Impl {
     const Eigen::Matrix3f R = pose.R_cones_camera.cast<float>();
     const Eigen::Vector3f o = pose.p_camera_in_cones_m.cast<float>();
     for (int v = ty * kTile; v < std::min(height, (ty + 1) * kTile); ++v) {
+      const int8_t* row_noise = &noise[(noise_offset + 3u * static_cast<uint32_t>(v) * width) & kNoiseMask];
       for (int tx = 0; tx < tiles_x; ++tx) {
         const std::vector<const Prim*>& list = lists[ty * tiles_x + tx];
         for (int u = tx * kTile; u < std::min(width, (tx + 1) * kTile); ++u) {
@@ -163,13 +167,16 @@ struct Renderer::Impl {
             const float x = o.x() + t * (R(0, 0) * r.x() + R(0, 1) * r.y() + R(0, 2) * r.z());
             const float y = o.y() + t * (R(1, 0) * r.x() + R(1, 1) * r.y() + R(1, 2) * r.z());
             radiance = materials.ShadeGround(x, y, t * norms_f[i], light);
+          } else if (list.empty()) {  // and no object: sky
+            radiance = materials.ShadeSky(dz / norms_f[i], light);
+            label = kLabelSky;
           } else {
             radiance = ShadePixel(pose, light, list, i, &label);
           }
           uint8_t* px = rgb + 3 * i;
           for (int c = 0; c < 3; ++c) {
             int value = materials.Encode(radiance[c] * exposure);
-            if (add_noise) value += noise[(noise_offset + 3 * i + c) & kNoiseMask];
+            if (add_noise) value += row_noise[3 * u + c];
             px[c] = static_cast<uint8_t>(std::clamp(value, 0, 255));
           }
           if (labels) labels[i] = label;
