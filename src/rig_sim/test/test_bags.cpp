@@ -53,6 +53,26 @@ TEST(Bags, SameSeedGivesAnIdenticalBagOtherSeedDoesNot) {
   for (const auto& p : {a, b, c}) std::remove(p.c_str());
 }
 
+TEST(Bags, EveryConnectionCarriesTypeAndMd5SoRosbagPlayAcceptsIt) {
+  const std::string path = WriteShort("still", 2, 0.5, "conn");
+  rosbag::Bag bag(path, rosbag::bagmode::Read);
+  rosbag::View view(bag);
+  int latched = 0;
+  for (const rosbag::ConnectionInfo* c : view.getConnections()) {
+    EXPECT_FALSE(c->datatype.empty()) << c->topic;
+    EXPECT_EQ(c->md5sum.size(), 32u) << c->topic;
+    EXPECT_FALSE(c->msg_def.empty()) << c->topic;
+    ASSERT_TRUE(c->header);
+    if (c->header->count("latching") && c->header->at("latching") == "1") {
+      ++latched;
+      EXPECT_EQ(c->header->at("md5sum"), c->md5sum) << c->topic;
+    }
+  }
+  EXPECT_EQ(latched, 2);  // /tf_static and the cone markers
+  bag.close();
+  std::remove(path.c_str());
+}
+
 TEST(Bags, ValidatorPassesOnEveryScenario) {
   for (const ScenarioInfo& info : ListScenarios()) {
     const std::string path = WriteShort(info.name, 3, 2.5, info.name);

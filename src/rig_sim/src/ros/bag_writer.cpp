@@ -5,6 +5,22 @@
 #include "rig_sim/ros/frame_pipeline.h"
 
 namespace rig_sim {
+namespace {
+
+// A latched connection's header. rosbag stores the given header as is, so it
+// must carry the type, md5sum and definition too, or `rosbag play` refuses it.
+template <typename M>
+boost::shared_ptr<ros::M_string> LatchedHeader() {
+  auto h = boost::make_shared<ros::M_string>();
+  (*h)["type"] = ros::message_traits::datatype<M>();
+  (*h)["md5sum"] = ros::message_traits::md5sum<M>();
+  (*h)["message_definition"] = ros::message_traits::definition<M>();
+  (*h)["callerid"] = "/rig_sim";
+  (*h)["latching"] = "1";
+  return h;
+}
+
+}  // namespace
 bool WriteScenarioBag(const Scenario& scenario, const BagOptions& opt, const std::string& path, BagStats* stats,
                       std::string* error) {
   try {
@@ -18,11 +34,9 @@ bool WriteScenarioBag(const Scenario& scenario, const BagOptions& opt, const std
       throw std::invalid_argument("compression must be none, lz4 or bz2");
     SimStream stream(scenario, opt.stream);
     const ros::Time t0 = StampAt(opt.start_time_s, 0.0);
-    auto latched = boost::make_shared<ros::M_string>();
-    (*latched)["latching"] = "1";
-    (*latched)["callerid"] = "/rig_sim";
-    bag.write("/tf_static", t0, MakeStaticTruth(scenario.imu, t0, opt.frames), latched);
-    bag.write(opt.topics.markers, t0, MakeConeMarkers(scenario.scene, t0, opt.frames.cones), latched);
+    bag.write("/tf_static", t0, MakeStaticTruth(scenario.imu, t0, opt.frames), LatchedHeader<tf2_msgs::TFMessage>());
+    bag.write(opt.topics.markers, t0, MakeConeMarkers(scenario.scene, t0, opt.frames.cones),
+              LatchedHeader<visualization_msgs::MarkerArray>());
     BagStats local;
     FramePipeline frames(stream, opt.start_time_s, opt.frames.camera, FrameCount(scenario));
     const uint64_t truth_per_imu =
