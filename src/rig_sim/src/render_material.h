@@ -39,6 +39,16 @@ class Materials {
     const Eigen::Vector3f horizon(0.70f, 0.76f, 0.85f), zenith(0.25f, 0.42f, 0.80f);
     return (horizon * (1.0f - up) + zenith * up) * (0.6f * light.sun + light.ambient);
   }
+  // A row of linear radiances (3 per pixel) -> sRGB 8-bit values plus noise (may be null).
+  // Split into simple loops so the compiler vectorises all but the table lookup.
+  void EncodeRow(const float* linear, const int8_t* noise, int count, int16_t* scratch, uint8_t* out) const {
+    const float top = static_cast<float>(kLutSize - 1);
+    for (int k = 0; k < count; ++k) scratch[k] = static_cast<int16_t>(std::min(linear[k] * kLutScale, top));
+    for (int k = 0; k < count; ++k) scratch[k] = lut_[scratch[k]];
+    if (noise)
+      for (int k = 0; k < count; ++k) scratch[k] = static_cast<int16_t>(scratch[k] + noise[k]);
+    for (int k = 0; k < count; ++k) out[k] = static_cast<uint8_t>(std::clamp<int16_t>(scratch[k], 0, 255));
+  }
   // Linear radiance -> sRGB 8-bit value.
   int Encode(float linear) const {  // linear >= 0: every shading term is non-negative
     return lut_[std::min(static_cast<int>(linear * kLutScale), kLutSize - 1)];

@@ -149,6 +149,8 @@ struct Renderer::Impl {
                      int ty, uint32_t noise_offset, uint8_t* rgb, int16_t* labels) const {
     const bool add_noise = config.noise_sigma_dn > 0.0;
     const float exposure = static_cast<float>(config.exposure);
+    std::vector<float> row_radiance(3 * static_cast<size_t>(width));
+    std::vector<int16_t> row_scratch(3 * static_cast<size_t>(width));
     // Single precision is plenty for bare ground (2 cm texels) and roughly halves its cost.
     const Eigen::Matrix3f R = pose.R_cones_camera.cast<float>();
     const Eigen::Vector3f o = pose.p_camera_in_cones_m.cast<float>();
@@ -173,15 +175,14 @@ struct Renderer::Impl {
           } else {
             radiance = ShadePixel(pose, light, list, i, &label);
           }
-          uint8_t* px = rgb + 3 * i;
-          for (int c = 0; c < 3; ++c) {
-            int value = materials.Encode(radiance[c] * exposure);
-            if (add_noise) value += row_noise[3 * u + c];
-            px[c] = static_cast<uint8_t>(std::clamp(value, 0, 255));
-          }
+          row_radiance[3 * u] = radiance[0] * exposure;
+          row_radiance[3 * u + 1] = radiance[1] * exposure;
+          row_radiance[3 * u + 2] = radiance[2] * exposure;
           if (labels) labels[i] = label;
         }
       }
+      materials.EncodeRow(row_radiance.data(), add_noise ? row_noise : nullptr, 3 * width, row_scratch.data(),
+                          rgb + 3 * static_cast<size_t>(v) * width);
     }
   }
 };
