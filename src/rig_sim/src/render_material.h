@@ -43,15 +43,12 @@ class Materials {
   // Split into simple loops so the compiler vectorises all but the table lookup.
   void EncodeRow(const float* linear, const int8_t* noise, int count, int16_t* scratch, uint8_t* out) const {
     const float top = static_cast<float>(kLutSize - 1);
-    for (int k = 0; k < count; ++k) scratch[k] = static_cast<int16_t>(std::min(linear[k] * kLutScale, top));
+    for (int k = 0; k < count; ++k)  // clamped both ways, so a bad lighting config cannot index outside lut_
+      scratch[k] = static_cast<int16_t>(std::min(std::max(linear[k] * kLutScale, 0.0f), top));
     for (int k = 0; k < count; ++k) scratch[k] = lut_[scratch[k]];
     if (noise)
       for (int k = 0; k < count; ++k) scratch[k] = static_cast<int16_t>(scratch[k] + noise[k]);
     for (int k = 0; k < count; ++k) out[k] = static_cast<uint8_t>(std::clamp<int16_t>(scratch[k], 0, 255));
-  }
-  // Linear radiance -> sRGB 8-bit value.
-  int Encode(float linear) const {  // linear >= 0: every shading term is non-negative
-    return lut_[std::min(static_cast<int>(linear * kLutScale), kLutSize - 1)];
   }
 
  private:
