@@ -46,3 +46,20 @@ format:
 
 clean:
 	rm -rf $(WS)/build $(WS)/devel $(WS)/run_tests.log $(ROOT)/src/CMakeLists.txt $(ROOT)/out
+
+# ---- rig_sim (issue 3): simulated bags ----------------------------------------------------------
+# `make bags` regenerates the full-size scenario set into rosbags/full/ (ignored by git) and runs the
+# validator on each; `make sample_bags` regenerates the small committed samples in rosbags/.
+.PHONY: bags sample_bags
+RIG_SIM_SCENARIOS := handheld still shake look_away clutter stacked indoor
+bags: build
+	@mkdir -p $(ROOT)/rosbags/full
+	@$(ENV) && for s in $(RIG_SIM_SCENARIOS); do \
+	  rosrun rig_sim make_bag --scenario $$s --seed 1 --output $(ROOT)/rosbags/full/$$s.bag || exit 1; \
+	  rosrun rig_sim validate_bag $(ROOT)/rosbags/full/$$s.bag > $(ROOT)/rosbags/full/$$s.validation.txt \
+	    || { cat $(ROOT)/rosbags/full/$$s.validation.txt; exit 1; }; \
+	  tail -1 $(ROOT)/rosbags/full/$$s.validation.txt; \
+	done
+
+sample_bags: build
+	@$(ENV) && bash $(ROOT)/src/rig_sim/scripts/make_sample_bags.sh $(ROOT)/rosbags

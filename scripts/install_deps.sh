@@ -27,7 +27,7 @@ PACKAGES=(
   python3-numpy python3-matplotlib python3-yaml
   # python messages for the rostests
   python3-std-msgs python3-sensor-msgs python3-std-srvs python3-diagnostic-msgs python3-nav-msgs
-  # calibration YAML (imu_driver); the BROAD IMU data set's .mat files (imu_driver via scipy, pose_ekf via matio)
+  # YAML files (rig_sim's cone layouts, imu_driver's calibrations); the BROAD IMU data set's .mat files (imu_driver via scipy, pose_ekf via matio)
   libyaml-cpp-dev python3-scipy libmatio-dev
 )
 

@@ -1,0 +1,77 @@
+// The simulated world in the `cones` frame {M}: origin at the centroid of the
+// cone bases, z up, x toward cone 1 (DESIGN.md). Cones stand upright; a
+// stacked cone simply has its base above the ground. ROS-free.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace rig_sim {
+
+enum class ConeStyle { kPlain, kRoad };
+
+struct ConeSpec {
+  Eigen::Vector3d base_m = Eigen::Vector3d::Zero();  // centre of the base circle
+  double height_m = 0.71;
+  double tau = 1.0 / 7.0;  // radius-to-height ratio (3.1.4)
+  ConeStyle style = ConeStyle::kRoad;
+  // White reflective bands, as (from, to) fractions of the height above the base.
+  std::vector<std::pair<double, double>> collars;
+  Eigen::Vector3d albedo = Eigen::Vector3d(0.90, 0.16, 0.012);  // linear RGB, safety orange
+  double base_plate_m = 0.0;  // side of the black square base on the ground (road cones)
+
+  double radius_m() const { return tau * height_m; }
+  Eigen::Vector3d peak_m() const { return base_m + Eigen::Vector3d(0, 0, height_m); }
+  Eigen::Vector3d mid_m() const { return base_m + Eigen::Vector3d(0, 0, 0.5 * height_m); }
+};
+
+// Orange things that are not cones, to test the segmenter honestly.
+struct BoxSpec {
+  Eigen::Vector3d center_m = Eigen::Vector3d::Zero();
+  double yaw_rad = 0.0;
+  Eigen::Vector3d size_m = Eigen::Vector3d(0.4, 0.3, 0.3);
+  Eigen::Vector3d albedo = Eigen::Vector3d(0.85, 0.18, 0.02);
+};
+struct PatchSpec {  // flat, on the ground
+  Eigen::Vector2d center_m = Eigen::Vector2d::Zero();
+  double yaw_rad = 0.0;
+  Eigen::Vector2d size_m = Eigen::Vector2d(0.5, 0.5);
+  Eigen::Vector3d albedo = Eigen::Vector3d(0.85, 0.18, 0.02);
+};
+struct PersonSpec {  // a standing person in a hi-vis orange vest, as a cylinder
+  Eigen::Vector2d position_m = Eigen::Vector2d::Zero();
+  double height_m = 1.75;
+  double radius_m = 0.22;
+};
+
+enum class GroundStyle { kAsphalt, kGrass, kConcrete };
+
+struct Scene {
+  std::vector<ConeSpec> cones;
+  std::vector<BoxSpec> boxes;
+  std::vector<PatchSpec> patches;
+  std::vector<PersonSpec> people;
+  GroundStyle ground = GroundStyle::kAsphalt;
+
+  // Centroid of the cone bases (the origin of {M} for a well-formed layout).
+  Eigen::Vector3d ConeCentroid() const;
+};
+
+// A cone of the given height and style with the collars such a cone carries.
+ConeSpec MakeCone(const Eigen::Vector3d& base_m, double height_m, ConeStyle style);
+
+// The thesis's layout (3.1.3): three identical cones in an equilateral
+// triangle, centred on the origin, cone 1 on +x.
+Scene EquilateralScene(double side_m, double height_m, ConeStyle style);
+// Default: three 28" (0.71 m) road cones, 1.5 m apart.
+Scene DefaultScene();
+
+// Layout files (config/layouts/*.yaml). Returns false with a message naming the
+// offending entry on any error; *scene is untouched then.
+bool LoadSceneYaml(const std::string& path, Scene* scene, std::string* error);
+bool ParseSceneYaml(const std::string& text, Scene* scene, std::string* error);
+
+}  // namespace rig_sim

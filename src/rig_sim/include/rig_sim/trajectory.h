@@ -1,0 +1,73 @@
+// Smooth handheld camera trajectories around the cones, with still segments,
+// fast shakes and stretches where the cones leave the view (7.3). The pose is
+// an analytic, infinitely differentiable function of time (built from
+// sinusoids and C2 smooth steps), deterministic given the seed. ROS-free.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace rig_sim {
+
+enum class SegmentKind { kStill, kShake, kLookAway };
+
+struct Segment {
+  SegmentKind kind = SegmentKind::kStill;
+  double start_s = 0.0;
+  double duration_s = 2.0;     // including both ramps
+  double ramp_s = 0.5;         // C2 smooth step in and out
+  double amplitude_deg = 0.0;  // shake: per-axis amplitude; look-away: pan angle
+  double frequency_hz = 0.0;   // shake only
+};
+
+struct TrajectoryConfig {
+  double duration_s = 60.0;
+  uint64_t seed = 1;
+  double min_distance_m = 1.5;  // camera to the look target
+  double max_distance_m = 4.0;
+  double min_elevation_deg = 15.0;  // of the camera above the look target
+  double max_elevation_deg = 40.0;
+  double orbit_rate_deg_s = 8.0;  // mean walk around the cones
+  double look_target_height_m = 0.3;
+  double jitter_deg = 1.5;        // hand tremor amplitude
+  std::vector<Segment> segments;  // must not overlap
+  std::string Validate() const;
+};
+
+struct TruePose {
+  Eigen::Matrix3d R_cones_camera;  // p_cones = R p_camera + t
+  Eigen::Vector3d p_camera_in_cones_m;
+};
+
+class Trajectory {
+ public:
+  // Throws std::invalid_argument with Validate()'s message on a bad config.
+  explicit Trajectory(const TrajectoryConfig& config);
+  const TrajectoryConfig& config() const { return config_; }
+
+  TruePose At(double t_s) const;
+  // Angular velocity of camera_optical in its own frame (central difference of
+  // the analytic pose; used for checks and ground truth twist).
+  Eigen::Vector3d OmegaCamera(double t_s) const;
+  // True while a still segment holds the rig fully at rest (ramps excluded).
+  bool IsStill(double t_s) const;
+
+ private:
+  double Warp(double t_s) const;  // motion time s(t): stops in still segments
+  double Window(const Segment& seg, double t_s) const;
+  TruePose BaseAt(double s) const;
+
+  TrajectoryConfig config_;
+  // Seeded sinusoid parameters: frequencies (Hz) and phases (rad).
+  double phase_[12];
+  double freq_[12];
+  Eigen::Vector3d shake_phase_;
+};
+
+// C2 smooth step 6x^5 - 15x^4 + 10x^3 on [0, 1], clamped outside.
+double SmoothStep(double x);
+
+}  // namespace rig_sim

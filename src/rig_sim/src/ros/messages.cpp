@@ -1,0 +1,166 @@
+#include "rig_sim/ros/messages.h"
+
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+namespace rig_sim {
+namespace {
+
+void FillPose(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, geometry_msgs::Pose* pose) {
+  const Eigen::Quaterniond q(R);
+  pose->position.x = t.x();
+  pose->position.y = t.y();
+  pose->position.z = t.z();
+  pose->orientation.w = q.w();
+  pose->orientation.x = q.x();
+  pose->orientation.y = q.y();
+  pose->orientation.z = q.z();
+}
+
+void FillTransform(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, geometry_msgs::Transform* tf) {
+  geometry_msgs::Pose p;
+  FillPose(R, t, &p);
+  tf->translation.x = t.x();
+  tf->translation.y = t.y();
+  tf->translation.z = t.z();
+  tf->rotation = p.orientation;
+}
+
+}  // namespace
+
+ros::Time StampAt(double start_s, double t_s) {
+  const int64_t ns = static_cast<int64_t>(std::llround(start_s * 1e9)) + static_cast<int64_t>(std::llround(t_s * 1e9));
+  ros::Time stamp;
+  stamp.fromNSec(static_cast<uint64_t>(ns));
+  return stamp;
+}
+
+sensor_msgs::CameraInfo MakeCameraInfo(const CameraConfig& c, const ros::Time& stamp, const std::string& frame) {
+  sensor_msgs::CameraInfo info;
+  info.header.stamp = stamp;
+  info.header.frame_id = frame;
+  info.width = c.width_px;
+  info.height = c.height_px;
+  info.distortion_model = "plumb_bob";
+  info.D = {c.k1, c.k2, c.p1, c.p2, c.k3};
+  info.K = {c.fu_px, 0.0, c.cu_px, 0.0, c.fv_px, c.cv_px, 0.0, 0.0, 1.0};
+  info.R = {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0};
+  info.P = {c.fu_px, 0.0, c.cu_px, 0.0, 0.0, c.fv_px, c.cv_px, 0.0, 0.0, 0.0, 1.0, 0.0};
+  return info;
+}
+
+sensor_msgs::ImagePtr MakeEmptyImage(const CameraConfig& c, const ros::Time& stamp, const std::string& frame) {
+  sensor_msgs::ImagePtr img(new sensor_msgs::Image);
+  img->header.stamp = stamp;
+  img->header.frame_id = frame;
+  img->width = c.width_px;
+  img->height = c.height_px;
+  img->encoding = "rgb8";
+  img->is_bigendian = 0;
+  img->step = 3 * c.width_px;
+  img->data.resize(static_cast<size_t>(img->step) * img->height);
+  return img;
+}
+
+sensor_msgs::Imu MakeImu(const ImuSample& s, const ImuConfig& cfg, const ros::Time& stamp, const std::string& frame) {
+  sensor_msgs::Imu m;
+  m.header.stamp = stamp;
+  m.header.frame_id = frame;
+  m.orientation_covariance[0] = -1.0;  // REP-145: no orientation estimate
+  m.angular_velocity.x = s.omega_imu_rad_s.x();
+  m.angular_velocity.y = s.omega_imu_rad_s.y();
+  m.angular_velocity.z = s.omega_imu_rad_s.z();
+  m.linear_acceleration.x = s.accel_imu_m_s2.x();
+  m.linear_acceleration.y = s.accel_imu_m_s2.y();
+  m.linear_acceleration.z = s.accel_imu_m_s2.z();
+  const double g = cfg.gyro_noise_deg_s * M_PI / 180.0, a = cfg.accel_noise_m_s2;
+  for (int i = 0; i < 3; ++i) {
+    m.angular_velocity_covariance[4 * i] = g * g;
+    m.linear_acceleration_covariance[4 * i] = a * a;
+  }
+  return m;
+}
+
+sensor_msgs::Imu MakeImuBias(const ImuSample& s, const ros::Time& stamp, const std::string& frame) {
+  sensor_msgs::Imu m;
+  m.header.stamp = stamp;
+  m.header.frame_id = frame;
+  m.orientation_covariance[0] = -1.0;
+  m.angular_velocity.x = s.true_gyro_bias_rad_s.x();
+  m.angular_velocity.y = s.true_gyro_bias_rad_s.y();
+  m.angular_velocity.z = s.true_gyro_bias_rad_s.z();
+  m.linear_acceleration.x = s.true_accel_bias_m_s2.x();
+  m.linear_acceleration.y = s.true_accel_bias_m_s2.y();
+  m.linear_acceleration.z = s.true_accel_bias_m_s2.z();
+  return m;
+}
+
+geometry_msgs::PoseStamped MakeTruthPose(const TruePose& pose, const ros::Time& stamp, const std::string& frame) {
+  geometry_msgs::PoseStamped m;
+  m.header.stamp = stamp;
+  m.header.frame_id = frame;
+  FillPose(pose.R_cones_camera, pose.p_camera_in_cones_m, &m.pose);
+  return m;
+}
+
+geometry_msgs::TransformStamped MakeTruthTransform(const TruePose& pose, const ros::Time& stamp,
+                                                   const FrameNames& frames) {
+  geometry_msgs::TransformStamped m;
+  m.header.stamp = stamp;
+  m.header.frame_id = frames.cones;
+  m.child_frame_id = frames.camera_truth;
+  FillTransform(pose.R_cones_camera, pose.p_camera_in_cones_m, &m.transform);
+  return m;
+}
+
+tf2_msgs::TFMessage MakeStaticTruth(const ImuConfig& imu, const ros::Time& stamp, const FrameNames& frames) {
+  geometry_msgs::TransformStamped m;
+  m.header.stamp = stamp;
+  m.header.frame_id = frames.camera_truth;
+  m.child_frame_id = frames.imu_truth;
+  FillTransform(imu.R_camera_imu(), imu.p_imu_in_camera_m, &m.transform);
+  tf2_msgs::TFMessage out;
+  out.transforms.push_back(m);
+  return out;
+}
+
+visualization_msgs::MarkerArray MakeConeMarkers(const Scene& scene, const ros::Time& stamp, const std::string& frame) {
+  visualization_msgs::MarkerArray out;
+  const int kSides = 24;
+  for (size_t i = 0; i < scene.cones.size(); ++i) {
+    const ConeSpec& c = scene.cones[i];
+    visualization_msgs::Marker m;
+    m.header.stamp = stamp;
+    m.header.frame_id = frame;
+    m.ns = "cones";
+    m.id = static_cast<int>(i);
+    m.type = visualization_msgs::Marker::TRIANGLE_LIST;
+    m.action = visualization_msgs::Marker::ADD;
+    m.pose.orientation.w = 1.0;
+    m.scale.x = m.scale.y = m.scale.z = 1.0;
+    m.color.r = 1.0f;
+    m.color.g = 0.4f;
+    m.color.b = 0.05f;
+    m.color.a = 1.0f;
+    geometry_msgs::Point apex;
+    apex.x = c.peak_m().x();
+    apex.y = c.peak_m().y();
+    apex.z = c.peak_m().z();
+    for (int k = 0; k < kSides; ++k) {
+      for (int j : {k, k + 1}) {
+        geometry_msgs::Point p;
+        const double a = 2.0 * M_PI * j / kSides;
+        p.x = c.base_m.x() + c.radius_m() * std::cos(a);
+        p.y = c.base_m.y() + c.radius_m() * std::sin(a);
+        p.z = c.base_m.z();
+        m.points.push_back(p);
+      }
+      m.points.push_back(apex);
+    }
+    out.markers.push_back(m);
+  }
+  return out;
+}
+
+}  // namespace rig_sim

@@ -1,0 +1,157 @@
+#include "rig_sim/ros/sim_publisher.h"
+
+#include <rosgraph_msgs/Clock.h>
+
+namespace rig_sim {
+
+bool LoadSimPublisherConfig(const ros::NodeHandle& pnh, SimPublisherConfig* c, std::string* error) {
+  SimPublisherConfig out;
+  pnh.param("scenario", out.scenario, out.scenario);
+  pnh.param("seed", out.seed, out.seed);
+  pnh.param("image_scale", out.image_scale, out.image_scale);
+  pnh.param("duration_s", out.duration_s, out.duration_s);
+  pnh.param("realtime_factor", out.realtime_factor, out.realtime_factor);
+  pnh.param("camera_delay_ms", out.camera_delay_ms, out.camera_delay_ms);
+  pnh.param("start_time_s", out.start_time_s, out.start_time_s);
+  pnh.param("loop", out.loop, out.loop);
+  pnh.param("publish_clock", out.publish_clock, out.publish_clock);
+  pnh.param("serial_pty", out.serial_pty, out.serial_pty);
+  pnh.param("serial_link", out.serial_link, out.serial_link);
+  pnh.param("layouts_dir", out.layouts_dir, std::string(RIG_SIM_LAYOUTS_DIR));
+  std::string err;
+  if (out.seed < 0)
+    err = "~seed must be >= 0";
+  else if (!(out.image_scale > 0.0 && out.image_scale <= 4.0))
+    err = "~image_scale must be in (0, 4]";
+  else if (out.duration_s < 0.0)
+    err = "~duration_s must be >= 0";
+  else if (!(out.realtime_factor > 0.0 && out.realtime_factor <= 100.0))
+    err = "~realtime_factor must be in (0, 100]";
+  else if (!(out.camera_delay_ms >= 0.0 && out.camera_delay_ms <= 1000.0))
+    err = "~camera_delay_ms must be in [0, 1000]";
+  else if (!(out.start_time_s > 0.0))
+    err = "~start_time_s must be positive";
+  if (!err.empty()) {
+    if (error) *error = err;
+    return false;
+  }
+  *c = out;
+  return true;
+}
+
+SimPublisher::SimPublisher(ros::NodeHandle nh, ros::NodeHandle pnh, const SimPublisherConfig& config)
+    : config_(config), nh_(nh), it_(nh), diagnostics_(nh, pnh) {
+  std::string err;
+  if (!MakeScenario(config.scenario, static_cast<uint64_t>(config.seed), config.layouts_dir, &scenario_, &err))
+    throw std::invalid_argument(err);
+  ShortenScenario(config.duration_s, config.image_scale, &scenario_);
+  camera_pub_ = it_.advertiseCamera(topics_.image, 2);
+  imu_pub_ = nh_.advertise<sensor_msgs::Imu>(topics_.imu, 50);
+  truth_pub_ = nh_.advertise<geometry_msgs::PoseStamped>(topics_.truth, 50);
+  bias_pub_ = nh_.advertise<sensor_msgs::Imu>(topics_.imu_bias, 50);
+  tf_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf", 50);
+  tf_static_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf_static", 1, true);
+  markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>(topics_.markers, 1, true);
+  if (config.publish_clock) clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
+  if (config.serial_pty) {
+    pty_.reset(new CristaPty());
+    if (!config.serial_link.empty() && !pty_->Link(config.serial_link, &err)) ROS_WARN("rig_sim: %s", err.c_str());
+    ROS_INFO("rig_sim: Crista byte stream on %s (link %s)", pty_->slave_path().c_str(), config.serial_link.c_str());
+  }
+  diagnostics_.setHardwareID("rig_sim/" + config.scenario);
+  diagnostics_.add("simulated rig", this, &SimPublisher::Diagnose);
+  pass_start_s_ = config.start_time_s;
+  const ros::Time t0 = StampAt(pass_start_s_, 0.0);
+  tf_static_pub_.publish(MakeStaticTruth(scenario_.imu, t0, frames_names_));
+  markers_pub_.publish(MakeConeMarkers(scenario_.scene, t0, frames_names_.cones));
+}
+
+SimPublisher::~SimPublisher() {
+  frames_.reset();  // joins the render thread before the stream goes
+  stream_.reset();
+}
+
+void SimPublisher::StartPass() {
+  frames_.reset();
+  StreamConfig sc;
+  sc.camera_delay_s = config_.camera_delay_ms / 1000.0;
+  stream_.reset(new SimStream(scenario_, sc));
+  frames_.reset(new FramePipeline(*stream_, pass_start_s_, frames_names_.camera, FrameCount(scenario_)));
+}
+
+void SimPublisher::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  stat.summary(late_events_ > 0 ? diagnostic_msgs::DiagnosticStatus::WARN : diagnostic_msgs::DiagnosticStatus::OK,
+               late_events_ > 0 ? "publishing behind schedule at times (lower image_scale or realtime_factor)"
+                                : "publishing on schedule");
+  stat.add("images published", images_);
+  stat.add("imu samples published", imu_);
+  stat.add("events more than 20 ms late", late_events_);
+  stat.add("serial packets dropped (no reader)", pty_ ? pty_->dropped() : 0);
+}
+
+void SimPublisher::Publish(const SimEvent& ev) {
+  const ros::Time stamp = StampAt(pass_start_s_, ev.stamp_s);
+  switch (ev.kind) {
+    case EventKind::kImu: {
+      imu_pub_.publish(MakeImu(ev.imu, scenario_.imu, stamp, frames_names_.imu));
+      bias_pub_.publish(MakeImuBias(ev.imu, stamp, frames_names_.imu));
+      if (pty_) {
+        const double t = stamp.toSec();
+        const uint32_t since_pps_us = static_cast<uint32_t>((stamp.nsec) / 1000);
+        pty_->Write(EncodeCristaHighSpeed(ev.imu, since_pps_us, static_cast<uint8_t>(static_cast<uint64_t>(t) & 0xFF),
+                                          static_cast<uint8_t>(ev.index & 0xFF)));
+      }
+      ++imu_;
+      break;
+    }
+    case EventKind::kTruth: {
+      truth_pub_.publish(MakeTruthPose(ev.pose, stamp, frames_names_.cones));
+      if (ev.index % 3 == 0) {
+        tf2_msgs::TFMessage tf;
+        tf.transforms.push_back(MakeTruthTransform(ev.pose, stamp, frames_names_));
+        tf_pub_.publish(tf);
+      }
+      break;
+    }
+    case EventKind::kImage: {
+      const sensor_msgs::ImagePtr img = frames_->Pop();
+      sensor_msgs::CameraInfoPtr info(
+          new sensor_msgs::CameraInfo(MakeCameraInfo(scenario_.camera, stamp, frames_names_.camera)));
+      camera_pub_.publish(img, info);  // never touched again: zero copy to nodelets in the same manager
+      ++images_;
+      break;
+    }
+  }
+}
+
+void SimPublisher::Run() {
+  StartPass();
+  const ros::WallTime wall0 = ros::WallTime::now();
+  double pass_offset_s = 0.0;  // scenario time already played in earlier passes
+  SimEvent ev;
+  while (ros::ok()) {
+    if (!stream_->Next(&ev)) {
+      if (!config_.loop) break;
+      pass_offset_s += scenario_.trajectory.duration_s;
+      pass_start_s_ = config_.start_time_s + pass_offset_s;  // time keeps going forward
+      StartPass();
+      continue;
+    }
+    const double due_s = (pass_offset_s + ev.deliver_s) / config_.realtime_factor;
+    const double wait_s = due_s - (ros::WallTime::now() - wall0).toSec();
+    if (wait_s > 0.0)
+      ros::WallDuration(wait_s).sleep();
+    else if (wait_s < -0.02)
+      ++late_events_;
+    if (clock_pub_) {
+      rosgraph_msgs::Clock clock;
+      clock.clock = StampAt(pass_start_s_, ev.deliver_s);
+      clock_pub_.publish(clock);
+    }
+    Publish(ev);
+    diagnostics_.update();
+    ros::spinOnce();
+  }
+}
+
+}  // namespace rig_sim

@@ -1,0 +1,97 @@
+#include "rig_sim/scenario.h"
+
+#include <algorithm>
+
+namespace rig_sim {
+namespace {
+
+Segment Still(double start_s, double duration_s) { return {SegmentKind::kStill, start_s, duration_s, 0.5, 0.0, 0.0}; }
+Segment Shake(double start_s, double duration_s, double amplitude_deg, double frequency_hz) {
+  return {SegmentKind::kShake, start_s, duration_s, 0.4, amplitude_deg, frequency_hz};
+}
+Segment LookAway(double start_s, double duration_s, double pan_deg) {
+  return {SegmentKind::kLookAway, start_s, duration_s, 1.2, pan_deg, 0.0};
+}
+
+}  // namespace
+
+const std::vector<ScenarioInfo>& ListScenarios() {
+  static const std::vector<ScenarioInfo> list = {
+      {"handheld",
+       "60 s walk around the default three road cones at 1.5-4 m: still start (3 s), shakes, "
+       "a 4 s stretch with the cones out of view, another still"},
+      {"still", "10 s with the rig at rest (gyro bias and gravity calibration)"},
+      {"shake", "20 s with fast shakes up to ~200 deg/s"},
+      {"look_away", "20 s with a 6 s stretch panned away from the cones (the gyro experiment, 7.3)"},
+      {"clutter",
+       "30 s around an asymmetric four-cone layout on grass among orange boxes, patches and a "
+       "person in hi-vis, with stronger lighting changes"},
+      {"stacked", "20 s around stacked cones on concrete"},
+      {"indoor", "20 s around the thesis's three 4\" plain cones at 0.5-1.2 m, indoors"},
+  };
+  return list;
+}
+
+bool MakeScenario(const std::string& name, uint64_t seed, const std::string& layouts_dir, Scenario* out,
+                  std::string* error) {
+  Scenario s;
+  s.name = name;
+  s.layout = "default.yaml";
+  TrajectoryConfig& t = s.trajectory;
+  if (name == "handheld") {
+    t.duration_s = 60.0;
+    t.segments = {Still(-1.0, 4.5), Shake(14.0, 3.0, 7.0, 3.0), LookAway(24.0, 6.4, 100.0), Still(38.0, 4.0),
+                  Shake(48.0, 2.5, 6.0, 4.0)};
+  } else if (name == "still") {
+    t.duration_s = 10.0;
+    t.segments = {Still(-1.0, 12.0)};
+  } else if (name == "shake") {
+    t.duration_s = 20.0;
+    t.segments = {Still(-1.0, 3.0), Shake(3.0, 5.0, 6.5, 3.5), Shake(11.0, 6.0, 5.0, 5.0)};
+  } else if (name == "look_away") {
+    t.duration_s = 20.0;
+    t.segments = {Still(-1.0, 3.0), LookAway(5.0, 8.4, 110.0)};
+  } else if (name == "clutter") {
+    t.duration_s = 30.0;
+    s.layout = "clutter.yaml";
+    t.segments = {Still(-1.0, 3.0), Shake(18.0, 2.0, 6.0, 3.0)};
+    t.orbit_rate_deg_s = 12.0;
+    s.render.lighting.variation = 0.4;
+    s.render.lighting.variation_period_s = 9.0;
+  } else if (name == "stacked") {
+    t.duration_s = 20.0;
+    s.layout = "stacked.yaml";
+    t.segments = {Still(-1.0, 3.0)};
+  } else if (name == "indoor") {
+    t.duration_s = 20.0;
+    s.layout = "thesis_indoor.yaml";
+    t.min_distance_m = 0.5;
+    t.max_distance_m = 1.2;
+    t.look_target_height_m = 0.05;
+    t.segments = {Still(-1.0, 3.0)};
+    s.render.lighting.sun_irradiance = 0.3;  // indoor light: mostly diffuse
+    s.render.lighting.ambient = 0.6;
+    s.render.lighting.variation = 0.05;
+  } else {
+    std::string names;
+    for (const auto& i : ListScenarios()) names += " " + i.name;
+    if (error) *error = "unknown scenario '" + name + "'; known:" + names;
+    return false;
+  }
+  for (const auto& i : ListScenarios())
+    if (i.name == name) s.description = i.description;
+  if (!LoadSceneYaml(layouts_dir + "/" + s.layout, &s.scene, error)) return false;
+  // Independent streams per component, all from the one seed.
+  t.seed = seed;
+  s.imu.seed = seed * 0x9E3779B97F4A7C15ull + 1;
+  s.render.seed = seed * 0xC2B2AE3D27D4EB4Full + 2;
+  *out = s;
+  return true;
+}
+
+void ShortenScenario(double duration_s, double image_scale, Scenario* s) {
+  if (duration_s > 0.0) s->trajectory.duration_s = std::min(s->trajectory.duration_s, duration_s);
+  if (image_scale > 0.0 && image_scale != 1.0) s->camera = s->camera.Scaled(image_scale);
+}
+
+}  // namespace rig_sim
