@@ -1,0 +1,73 @@
+// Ceres refinement of the image-space reprojection error (4.1) over the pose,
+// the quaternion on Ceres's QuaternionManifold (Ceres's [w x y z] order is the
+// thesis's [q0 qx qy qz]), with an optional Huber loss.
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+
+#include "cone_tracker/pose/algorithms.h"
+#include "pose_math/quaternion.h"
+
+namespace cone_tracker {
+namespace {
+
+struct Reprojection {
+  Reprojection(const Eigen::Vector3d& model, const Eigen::Vector2d& normalized, double fx, double fy)
+      : model_(model), normalized_(normalized), fx_(fx), fy_(fy) {}
+  template <typename T>
+  bool operator()(const T* q, const T* t, T* residual) const {
+    const T p_m[3] = {T(model_.x()), T(model_.y()), T(model_.z())};
+    T p_c[3];
+    ceres::UnitQuaternionRotatePoint(q, p_m, p_c);
+    p_c[0] += t[0];
+    p_c[1] += t[1];
+    p_c[2] += t[2];
+    residual[0] = T(fx_) * (p_c[0] / p_c[2] - T(normalized_.x()));
+    residual[1] = T(fy_) * (p_c[1] / p_c[2] - T(normalized_.y()));
+    return true;
+  }
+  Eigen::Vector3d model_;
+  Eigen::Vector2d normalized_;
+  double fx_, fy_;
+};
+
+}  // namespace
+
+Estimate CeresRefine(const Correspondences& c, const pose_math::Pose& initial, bool robust_loss,
+                     double huber_threshold_px, int max_iterations) {
+  if (c.size() < 4) return Failure("ceres refinement needs at least 4 points");
+  double q[4], t[3];
+  const pose_math::Quat q0 = pose_math::NormalizedQuat(initial.q, "CeresRefine");
+  for (int k = 0; k < 4; ++k) q[k] = q0[k];
+  for (int k = 0; k < 3; ++k) t[k] = initial.t[k];
+
+  ceres::Problem::Options problem_options;
+  ceres::Problem problem(problem_options);
+  for (int i = 0; i < c.size(); ++i) {
+    auto* cost = new ceres::AutoDiffCostFunction<Reprojection, 2, 4, 3>(
+        new Reprojection(c.model.col(i), c.normalized.col(i), c.fx_px, c.fy_px));
+    problem.AddResidualBlock(cost, robust_loss ? new ceres::HuberLoss(huber_threshold_px) : nullptr, q, t);
+  }
+  problem.SetManifold(q, new ceres::QuaternionManifold);
+
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = max_iterations;
+  options.num_threads = 1;
+  options.logging_type = ceres::SILENT;
+  options.function_tolerance = 1e-14;
+  options.gradient_tolerance = 1e-14;
+  options.parameter_tolerance = 1e-14;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+
+  Estimate e;
+  e.ok = summary.IsSolutionUsable();
+  if (!e.ok) return Failure("ceres: " + summary.message);
+  e.T_camera_model.q = pose_math::CanonicalSign(pose_math::NormalizedQuat(pose_math::Quat(q[0], q[1], q[2], q[3])));
+  e.T_camera_model.t = Eigen::Vector3d(t[0], t[1], t[2]);
+  e.iterations = static_cast<int>(summary.iterations.size());
+  e.converged = summary.termination_type == ceres::CONVERGENCE;
+  return e;
+}
+
+}  // namespace cone_tracker
