@@ -110,7 +110,7 @@ TEST(EulerDerivatives, MatchNumeric) {
 TEST(ReducedMeasurementMatrix, HasTheSameNormalMatrix) {
   std::mt19937 rng(15);
   const Eigen::MatrixXd M = Eigen::MatrixXd::Random(30, 12);
-  const Matrix12d reduced = ReducedMeasurementMatrix(M);
+  const Matrix12d reduced = DecomposeMeasurementMatrix(M).reduced;
   EXPECT_LT((reduced.transpose() * reduced - M.transpose() * M).norm(), 1e-10 * (M.transpose() * M).norm());  // (4.80)
 }
 

@@ -3,9 +3,11 @@
 // thesis's [q0 qx qy qz]), with an optional Huber loss.
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
+#include <ceres/tiny_solver.h>
 
 #include "cone_tracker/pose/algorithms.h"
 #include "pose_math/quaternion.h"
+#include "pose_math/rotation.h"
 
 namespace cone_tracker {
 namespace {
@@ -30,7 +32,72 @@ struct Reprojection {
   double fx_, fy_;
 };
 
+// The same residual for ceres::TinySolver over a local chart of the quaternion
+// manifold: x = (δθ, t) with R = exp(S(δθ)) R0. The rotation columns of the
+// Jacobian are those at δθ = 0, −S(R p) per point: they differ from the exact
+// ones by an invertible 3×3 factor, so the minimum (Jᵀf = 0) is the same.
+struct ChartReprojection {
+  using Scalar = double;
+  enum { NUM_RESIDUALS = Eigen::Dynamic, NUM_PARAMETERS = 6 };
+  bool operator()(const double* x, double* residual, double* jacobian) const {
+    const Eigen::Map<const Eigen::Vector3d> rotation_vector(x), t(x + 3);
+    const double angle = rotation_vector.norm();
+    const Eigen::Matrix3d R = angle > 0.0 ? Eigen::AngleAxisd(angle, rotation_vector / angle).toRotationMatrix()
+                                          : Eigen::Matrix3d::Identity();
+    const int m = NumResiduals();
+    for (int i = 0; i < rotated.cols(); ++i) {
+      const Eigen::Vector3d Rp = R * rotated.col(i);
+      const Eigen::Vector3d p = Rp + t;
+      const double iz = 1.0 / p.z();
+      residual[2 * i] = fx * (p.x() * iz - normalized(0, i));  // (4.1)
+      residual[2 * i + 1] = fy * (p.y() * iz - normalized(1, i));
+      if (jacobian == nullptr) continue;
+      Eigen::Matrix<double, 2, 3> P;
+      P << fx * iz, 0.0, -fx * p.x() * iz * iz, 0.0, fy * iz, -fy * p.y() * iz * iz;
+      const Eigen::Matrix<double, 2, 3> Jr = -P * pose_math::Skew(Rp);
+      for (int k = 0; k < 3; ++k) {
+        jacobian[2 * i + k * m] = Jr(0, k);
+        jacobian[2 * i + 1 + k * m] = Jr(1, k);
+        jacobian[2 * i + (k + 3) * m] = P(0, k);
+        jacobian[2 * i + 1 + (k + 3) * m] = P(1, k);
+      }
+    }
+    return true;
+  }
+  int NumResiduals() const { return 2 * static_cast<int>(rotated.cols()); }
+  Eigen::Matrix3Xd rotated;  // R0 p_m
+  Eigen::Matrix2Xd normalized;
+  double fx, fy;
+};
+
 }  // namespace
+
+Estimate TinyCeresRefine(const Correspondences& c, const pose_math::Pose& initial, int max_iterations) {
+  if (c.size() < 4) return Failure("refinement needs at least 4 points");
+  ChartReprojection f;
+  f.rotated = RotationOf(initial) * c.model;
+  f.normalized = c.normalized;
+  f.fx = c.fx_px;
+  f.fy = c.fy_px;
+  ceres::TinySolver<ChartReprojection> solver;
+  solver.options.max_num_iterations = max_iterations;
+  solver.options.gradient_tolerance = 1e-14;
+  solver.options.parameter_tolerance = 1e-11;
+  solver.options.function_tolerance = 1e-12;
+  solver.options.cost_threshold = 1e-24;
+  Eigen::Matrix<double, 6, 1> x;
+  x << 0, 0, 0, initial.t;
+  const auto& summary = solver.Solve(f, &x);
+  if (!x.allFinite()) return Failure("refinement diverged");
+  Estimate e;
+  e.ok = true;
+  e.T_camera_model.q = pose_math::CanonicalSign(
+      pose_math::NormalizedQuat(pose_math::Multiply(pose_math::QuatFromRotationVector(x.head<3>()), initial.q)));
+  e.T_camera_model.t = x.tail<3>();
+  e.iterations = summary.iterations;
+  e.converged = summary.status != ceres::TinySolver<ChartReprojection>::HIT_MAX_ITERATIONS;
+  return e;
+}
 
 Estimate CeresRefine(const Correspondences& c, const pose_math::Pose& initial, bool robust_loss,
                      double huber_threshold_px, int max_iterations) {

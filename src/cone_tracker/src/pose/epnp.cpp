@@ -27,7 +27,7 @@ bool Setup(const Correspondences& c, EpnpSetup* s) {
   Eigen::Matrix4Xd alpha;
   if (!Barycentric(s->control, c.model, &alpha)) return false;
   s->maps = SimplexPointMaps(alpha);
-  s->V = NullSpaceVectors(ReducedMeasurementMatrix(MeasurementMatrix(c, s->maps, ErrorSpace::kImage)));
+  s->V = DecomposeMeasurementMatrix(MeasurementMatrix(c, s->maps, ErrorSpace::kImage)).V;
   return true;
 }
 

@@ -1,5 +1,5 @@
 // Small geometry shared by the chapter 4 algorithms.
-#include <Eigen/SVD>
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <limits>
 
@@ -59,8 +59,11 @@ double MinDepth(const Eigen::Matrix3Xd& model, const pose_math::Pose& T) {
 }
 
 Eigen::Vector3d ModelSpread(const Eigen::Matrix3Xd& model) {
+  // Square roots of the scatter matrix's eigenvalues (cheaper than an SVD of 3×n).
   const Eigen::Matrix3Xd centred = model.colwise() - model.rowwise().mean();
-  return Eigen::JacobiSVD<Eigen::Matrix3Xd>(centred).singularValues();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(centred * centred.transpose(), Eigen::EigenvaluesOnly);
+  return eig.eigenvalues().reverse().cwiseMax(0.0).cwiseSqrt();
 }
 
 void EulerRotationDerivatives(double alpha, double beta, double gamma, Eigen::Matrix3d dR[3]) {

@@ -49,8 +49,8 @@ Estimate MdltLinear(const Correspondences& c, ErrorSpace space) {
   const Estimate check = CheckPoints(c, "mdlt");
   if (!check.ok) return check;
   const std::vector<PointMap> maps = MdltPointMaps(c.model);
-  const Matrix12d reduced = ReducedMeasurementMatrix(MeasurementMatrix(c, maps, space));  // (4.62–4.72, 4.80)
-  const Vector12d L = NullSpaceVectors(reduced).col(0);                                   // (4.73, 4.74)
+  const NullSpace ns = DecomposeMeasurementMatrix(MeasurementMatrix(c, maps, space));  // (4.62–4.73)
+  const Vector12d L = ns.V.col(0);                                   // (4.73, 4.74)
   return ScaleAndAlign(c.model, CameraPoints(maps, L));                                   // (4.75–4.79)
 }
 
@@ -58,7 +58,7 @@ Estimate MdltGaussNewton(const Correspondences& c, ErrorSpace space, const pose_
                          int max_iterations) {
   const Estimate check = CheckPoints(c, "mdlt");
   if (!check.ok) return check;
-  const Matrix12d reduced = ReducedMeasurementMatrix(MeasurementMatrix(c, MdltPointMaps(c.model), space));
+  const Matrix12d reduced = DecomposeMeasurementMatrix(MeasurementMatrix(c, MdltPointMaps(c.model), space)).reduced;
   const GaussNewtonResult gn =
       NullSpaceGaussNewton(reduced, &MdltParam, RotationOf(initial), initial.t, max_iterations);
   Estimate e;

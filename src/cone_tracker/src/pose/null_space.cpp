@@ -3,7 +3,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <Eigen/QR>
-#include <Eigen/SVD>
+#include <Eigen/Eigenvalues>
 #include <cmath>
 
 #include "pose_math/quaternion.h"
@@ -30,20 +30,14 @@ Eigen::MatrixXd MeasurementMatrix(const Correspondences& c, const std::vector<Po
   return M;
 }
 
-Matrix12d ReducedMeasurementMatrix(const Eigen::MatrixXd& M) {
-  Matrix12d reduced = Matrix12d::Zero();
-  if (M.rows() >= 12) {
-    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(M);
-    reduced = qr.matrixQR().topRows<12>().triangularView<Eigen::Upper>();  // (4.80)
-  } else {
-    reduced.topRows(M.rows()) = M;
-  }
-  return reduced;
-}
-
-Matrix12d NullSpaceVectors(const Matrix12d& reduced) {
-  const Eigen::JacobiSVD<Matrix12d> svd(reduced, Eigen::ComputeFullV);
-  return svd.matrixV().rowwise().reverse();  // (4.73), smallest first
+NullSpace DecomposeMeasurementMatrix(const Eigen::MatrixXd& M) {
+  const Matrix12d normal = M.transpose() * M;
+  const Eigen::SelfAdjointEigenSolver<Matrix12d> eig(normal);  // (4.73), eigenvalues ascending
+  NullSpace ns;
+  ns.V = eig.eigenvectors();
+  // MᵀM = V S² Vᵀ = (S Vᵀ)ᵀ(S Vᵀ): M̂ = S Vᵀ (4.80), 12×12 for any number of points.
+  ns.reduced = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * ns.V.transpose();
+  return ns;
 }
 
 Eigen::Matrix3Xd CameraPoints(const std::vector<PointMap>& maps, const Vector12d& v) {
@@ -96,8 +90,8 @@ GaussNewtonResult NullSpaceGaussNewton(const Matrix12d& reduced, NullSpaceParam 
     double scale = 1.0;
     bool accepted = false;
     for (int k = 0; k < 8 && !accepted; ++k, scale *= 0.5) {
-      const Eigen::Matrix3d R = pose_math::NearestRotation(
-          pose_math::RotZ(scale * step(0)) * pose_math::RotY(scale * step(1)) * pose_math::RotX(scale * step(2)) * r.R);
+      const Eigen::Matrix3d R =
+          pose_math::RotZ(scale * step(0)) * pose_math::RotY(scale * step(1)) * pose_math::RotX(scale * step(2)) * r.R;
       const Eigen::Vector3d t = r.t + scale * step.tail<3>();
       const double new_cost = cost_of(R, t);
       if (new_cost <= cost) {

@@ -18,11 +18,13 @@ using PointMap = Eigen::Matrix<double, 3, 12>;  // C_i
 // 4.102 / 4.104–4.106 for the simplex): image space fu(X − x Z), fv(Y − y Z)
 // (pixels × depth); object space (F_i − I) p_c.
 Eigen::MatrixXd MeasurementMatrix(const Correspondences& c, const std::vector<PointMap>& maps, ErrorSpace space);
-// M̂ with M̂ᵀM̂ = MᵀM (4.80), from a QR decomposition of M.
-Matrix12d ReducedMeasurementMatrix(const Eigen::MatrixXd& M);
-// Right singular vectors of M̂, smallest singular value first: the eigenvectors
-// of M̂ᵀM̂ of 4.73, computed without squaring the condition number.
-Matrix12d NullSpaceVectors(const Matrix12d& reduced);
+// Eigenvectors V of MᵀM, smallest eigenvalue first (4.73), and the reduced
+// measurement matrix M̂ = S Vᵀ with M̂ᵀM̂ = MᵀM (4.80).
+struct NullSpace {
+  Matrix12d V;
+  Matrix12d reduced;
+};
+NullSpace DecomposeMeasurementMatrix(const Eigen::MatrixXd& M);
 // Camera points C_i v for every i.
 Eigen::Matrix3Xd CameraPoints(const std::vector<PointMap>& maps, const Vector12d& v);
 // Scale β = sgn(Z̄) sqrt(Md / Cd) (4.76–4.78) and absolute orientation (4.79).

@@ -57,8 +57,8 @@ Estimate SimplexLinear(const Correspondences& c, ErrorSpace space) {
   Triad triad;
   const Estimate check = Prepare(c, &triad);
   if (!check.ok) return check;
-  const Matrix12d reduced = ReducedMeasurementMatrix(MeasurementMatrix(c, triad.maps, space));  // (4.102–4.106)
-  const Vector12d Ps = NullSpaceVectors(reduced).col(0);                                         // (4.107)
+  const NullSpace ns = DecomposeMeasurementMatrix(MeasurementMatrix(c, triad.maps, space));  // (4.102–4.106)
+  const Vector12d Ps = ns.V.col(0);                                         // (4.107)
   return ScaleAndAlign(c.model, CameraPoints(triad.maps, Ps));                                   // (4.108)
 }
 
@@ -67,7 +67,7 @@ Estimate SimplexGaussNewton(const Correspondences& c, ErrorSpace space, const po
   Triad triad;
   const Estimate check = Prepare(c, &triad);
   if (!check.ok) return check;
-  const Matrix12d reduced = ReducedMeasurementMatrix(MeasurementMatrix(c, triad.maps, space));
+  const Matrix12d reduced = DecomposeMeasurementMatrix(MeasurementMatrix(c, triad.maps, space)).reduced;
   const Eigen::Matrix3d R_cm = RotationOf(initial);
   const GaussNewtonResult gn = NullSpaceGaussNewton(reduced, &TriadParam, R_cm * triad.R_model_triad,
                                                     R_cm * triad.centroid + initial.t, max_iterations);  // (4.119)

@@ -87,7 +87,10 @@ Estimate Run(const Correspondences& c, const PnpOptions& o, const std::optional<
     case PnpMethod::kBest: {
       const Estimate start = initial ? Estimate{true, "", *initial, 0, true, 0.0} : LinearStart(c, planar);
       if (!start.ok) return start;
-      Estimate e = CeresRefine(c, start.T_camera_model, o.robust_loss, o.huber_threshold_px, o.max_iterations);
+      // best uses the allocation-free TinySolver unless a robust loss is asked for.
+      Estimate e = o.method == PnpMethod::kBest && !o.robust_loss
+                       ? TinyCeresRefine(c, start.T_camera_model, o.max_iterations)
+                       : CeresRefine(c, start.T_camera_model, o.robust_loss, o.huber_threshold_px, o.max_iterations);
       e.iterations += start.iterations;
       return e;
     }

@@ -78,5 +78,9 @@ Estimate SimplexSdp(const Correspondences& c, ErrorSpace space, int eigenvectors
 // --- refinement (ceres_refine.cpp) ---
 Estimate CeresRefine(const Correspondences& c, const pose_math::Pose& initial, bool robust_loss,
                      double huber_threshold_px, int max_iterations);
+// The same least squares with ceres::TinySolver (dense Levenberg–Marquardt,
+// no Problem set-up) in a rotation-vector chart around the start: the fast
+// refinement of "best". No robust loss.
+Estimate TinyCeresRefine(const Correspondences& c, const pose_math::Pose& initial, int max_iterations = 50);
 
 }  // namespace cone_tracker
