@@ -2,6 +2,7 @@
 // and attach residuals and covariance.
 #include <array>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -61,6 +62,41 @@ Estimate LinearStart(const Correspondences& c, bool planar) {
   return OrthogonalIteration(c, nullptr, 50, 1e-6);
 }
 
+// Linear start + image-space refinement. If the refined RMS residual is
+// implausible for the stated noise (a local minimum from a poor linear start,
+// common at high noise), restart from OIA, whose convergence basin is wide
+// (7.1.2), and from EPnP + Gauss–Newton, and keep the lowest cost.
+Estimate Best(const Correspondences& c, const PnpOptions& o, const std::optional<pose_math::Pose>& initial,
+              bool planar) {
+  const auto refine = [&](const pose_math::Pose& start) {
+    return o.robust_loss ? CeresRefine(c, start, true, o.huber_threshold_px, o.max_iterations)
+                         : TinyCeresRefine(c, start, o.max_iterations);
+  };
+  const Estimate start = initial ? Estimate{true, "", *initial, 0, true, 0.0} : LinearStart(c, planar);
+  Estimate best = start.ok ? refine(start.T_camera_model) : start;
+  int iterations = start.iterations + best.iterations;
+  const auto cost_of = [&](const Estimate& e) {
+    return e.ok && MinDepth(c.model, e.T_camera_model) > 0.0 ? ImageSpaceCost(c, e.T_camera_model)
+                                                             : std::numeric_limits<double>::infinity();
+  };
+  double best_cost = cost_of(best);
+  const double gate = std::pow(o.best_restart_rms_factor * o.sigma_px, 2);
+  if (best_cost <= gate) return best;
+  std::vector<Estimate> starts;
+  if (start.ok) starts.push_back(OrthogonalIteration(c, &start.T_camera_model, 200, 1e-10));
+  if (!planar && c.size() >= 6) starts.push_back(EpnpGaussNewton(c));
+  starts.push_back(OrthogonalIteration(c, nullptr, 200, 1e-10));
+  for (const Estimate& s : starts) {
+    if (!s.ok) continue;
+    const Estimate e = refine(s.T_camera_model);
+    iterations += s.iterations + e.iterations;
+    const double cost = cost_of(e);
+    if (cost < best_cost) best_cost = cost, best = e;
+  }
+  best.iterations = iterations;
+  return best;
+}
+
 Estimate Run(const Correspondences& c, const PnpOptions& o, const std::optional<pose_math::Pose>& initial,
              bool planar) {
   const auto refine_null_space = [&](auto linear, auto gauss_newton, ErrorSpace space) {
@@ -83,17 +119,14 @@ Estimate Run(const Correspondences& c, const PnpOptions& o, const std::optional<
     case PnpMethod::kEpnp: return EpnpLinear(c);
     case PnpMethod::kEpnpGn: return EpnpGaussNewton(c);
     case PnpMethod::kSimplexSdp: return SimplexSdp(c, ErrorSpace::kImage, o.sdp_eigenvectors, o.sdp_constraint);
-    case PnpMethod::kCeres:
-    case PnpMethod::kBest: {
+    case PnpMethod::kCeres: {
       const Estimate start = initial ? Estimate{true, "", *initial, 0, true, 0.0} : LinearStart(c, planar);
       if (!start.ok) return start;
-      // best uses the allocation-free TinySolver unless a robust loss is asked for.
-      Estimate e = o.method == PnpMethod::kBest && !o.robust_loss
-                       ? TinyCeresRefine(c, start.T_camera_model, o.max_iterations)
-                       : CeresRefine(c, start.T_camera_model, o.robust_loss, o.huber_threshold_px, o.max_iterations);
+      Estimate e = CeresRefine(c, start.T_camera_model, o.robust_loss, o.huber_threshold_px, o.max_iterations);
       e.iterations += start.iterations;
       return e;
     }
+    case PnpMethod::kBest: return Best(c, o, initial, planar);
   }
   return Failure("unknown method");
 }

@@ -60,6 +60,9 @@ struct PnpOptions {
   bool robust_loss = false;
   double huber_threshold_px = 2.0;
   int max_iterations = 100;
+  // best: restart from other starts when the refined RMS reprojection error
+  // exceeds this multiple of sigma_px (not plausible at the global minimum).
+  double best_restart_rms_factor = 2.0;
   // Simplex SDP: number of eigenvectors (2, 3 or 4) and constraint kind.
   int sdp_eigenvectors = 4;
   enum class SdpConstraint { kDistance, kDotProduct, kOrthogonalTriad } sdp_constraint = SdpConstraint::kDistance;
