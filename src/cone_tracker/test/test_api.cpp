@@ -32,7 +32,6 @@ TEST(SolvePnp, EveryMethodRecoversExactPoseWithDistortion) {
   k.camera.distortion = {-0.2, 0.05, 0.001, -0.0005};
   ASSERT_TRUE(sim::Project(k.camera, k.T_camera_model, k.model, &k.image));
   for (const std::string& name : PnpMethodNames()) {
-    if (name == "simplex-sdp") continue;  // TEMPORARY until the CSDP solver lands
     const PnpResult r = SolvePnp(k.camera, k.model, k.image, With(*PnpMethodFromName(name)));
     ASSERT_TRUE(r.ok) << name << ": " << r.error;
     // undistortPoints iterates to ~1e-10 px, well inside 1e-9 m at 1.5 m.

@@ -1,3 +1,4 @@
+#include <algorithm>
 // MDLT, 3-simplex and EPnP on noise-free data, and their Jacobians.
 #include "../src/pose/null_space.h"
 #include "pose_math/rotation.h"
@@ -57,12 +58,71 @@ TEST(Epnp, LinearAndGaussNewtonRecoverExactPose) {
   }
 }
 
+TEST(SimplexSdp, EveryEigenvectorCountAndConstraintRecoversExactPose) {
+  const std::vector<sim::Case> cases = NoiseFreeCases(16);
+  for (const size_t k : {size_t{0}, size_t{5}}) {  // a random cloud and a cone layout
+    const Correspondences c = ToCorrespondences(cases[k]);
+    for (const ErrorSpace space : {ErrorSpace::kImage, ErrorSpace::kObject}) {
+      for (int n = 2; n <= 4; ++n) {
+        for (const auto con : {PnpOptions::SdpConstraint::kDistance, PnpOptions::SdpConstraint::kDotProduct,
+                               PnpOptions::SdpConstraint::kOrthogonalTriad}) {
+          const Estimate e = SimplexSdp(c, space, n, con);
+          ASSERT_TRUE(e.ok) << e.error;
+          EXPECT_TRUE(PoseNear(e.T_camera_model, cases[k].T_camera_model, kExact))
+              << "eigenvectors " << n << " constraint " << static_cast<int>(con);
+        }
+      }
+    }
+  }
+}
+
+TEST(SimplexSdp, FourEigenvectorsBeatTwoUnderNoise) {
+  // The thesis found four eigenvectors best (4.3.3.5); compare median errors.
+  std::mt19937 rng(17);
+  std::vector<double> err2, err4;
+  for (int k = 0; k < 21; ++k) {
+    const sim::Case cs = sim::RandomCloud(rng, 10);
+    const Correspondences c = ToCorrespondences(cs, sim::AddNoise(rng, cs.image, 2.0));
+    err2.push_back(pose_math::RotationErrorRad(
+        SimplexSdp(c, ErrorSpace::kImage, 2, PnpOptions::SdpConstraint::kDistance).T_camera_model, cs.T_camera_model));
+    err4.push_back(pose_math::RotationErrorRad(
+        SimplexSdp(c, ErrorSpace::kImage, 4, PnpOptions::SdpConstraint::kDistance).T_camera_model, cs.T_camera_model));
+  }
+  std::nth_element(err2.begin(), err2.begin() + 10, err2.end());
+  std::nth_element(err4.begin(), err4.begin() + 10, err4.end());
+  EXPECT_LT(err4[10], err2[10]);
+}
+
+TEST(SimplexSdp, RejectsBadEigenvectorCount) {
+  const Correspondences c = ToCorrespondences(NoiseFreeCases(18)[0]);
+  EXPECT_FALSE(SimplexSdp(c, ErrorSpace::kImage, 1, PnpOptions::SdpConstraint::kDistance).ok);
+  EXPECT_FALSE(SimplexSdp(c, ErrorSpace::kImage, 5, PnpOptions::SdpConstraint::kDistance).ok);
+}
+
 TEST(Ceres, RefinementRecoversExactPose) {
   for (const sim::Case& k : NoiseFreeCases(13)) {
-    const Estimate e = CeresRefine(ToCorrespondences(k), Perturbed(k.T_camera_model), false, 2.0, 100);
-    ASSERT_TRUE(e.ok) << e.error;
-    EXPECT_TRUE(PoseNear(e.T_camera_model, k.T_camera_model, kExact));
+    for (const bool robust : {false, true}) {
+      const Estimate e = CeresRefine(ToCorrespondences(k), Perturbed(k.T_camera_model), robust, 2.0, 100);
+      ASSERT_TRUE(e.ok) << e.error;
+      EXPECT_TRUE(e.converged);
+      EXPECT_TRUE(PoseNear(e.T_camera_model, k.T_camera_model, kExact));
+    }
+    const Estimate tiny = TinyCeresRefine(ToCorrespondences(k), Perturbed(k.T_camera_model));
+    ASSERT_TRUE(tiny.ok);
+    EXPECT_TRUE(PoseNear(tiny.T_camera_model, k.T_camera_model, kExact));
   }
+}
+
+TEST(Ceres, RobustLossResistsAnOutlier) {
+  std::mt19937 rng(19);
+  const sim::Case k = sim::RandomCloud(rng, 12);
+  std::vector<Eigen::Vector2d> image = sim::AddNoise(rng, k.image, 0.5);
+  image[3] += Eigen::Vector2d(60.0, -40.0);
+  const Correspondences c = ToCorrespondences(k, image);
+  const Estimate plain = CeresRefine(c, k.T_camera_model, false, 2.0, 100);
+  const Estimate robust = CeresRefine(c, k.T_camera_model, true, 2.0, 100);
+  EXPECT_LT(pose_math::RotationErrorRad(robust.T_camera_model, k.T_camera_model),
+            0.5 * pose_math::RotationErrorRad(plain.T_camera_model, k.T_camera_model));
 }
 
 // dv/dΘ of both null-space parameterisations against central differences of

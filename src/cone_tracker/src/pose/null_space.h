@@ -54,6 +54,15 @@ void TriadParam(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const Eigen:
 // Rotation derivatives of the left Euler increment at zero: S(e_z) R, S(e_y) R, S(e_x) R.
 void LeftEulerDerivatives(const Eigen::Matrix3d& R, Eigen::Matrix3d dR[3]);
 
+// The unit orthogonal triad {S} on the model's principal axes (4.109–4.113).
+struct Triad {
+  Eigen::Matrix3d R_model_triad;         // M_S R (4.110, 4.111)
+  Eigen::Vector3d centroid;              // M P̄m (4.109)
+  Eigen::Matrix<double, 3, 4> vertices;  // M Ps (4.113)
+  std::vector<PointMap> maps;            // from the barycentric coordinates (4.91)
+};
+bool MakeTriad(const Eigen::Matrix3Xd& model, Triad* triad);
+
 // Barycentric coordinates of the model points w.r.t. four vertices (4.91);
 // returns false if the vertices are coplanar.
 bool Barycentric(const Eigen::Matrix<double, 3, 4>& vertices, const Eigen::Matrix3Xd& model, Eigen::Matrix4Xd* alpha);

@@ -6,13 +6,6 @@
 #include "null_space.h"
 
 namespace cone_tracker {
-namespace {
-
-struct Triad {
-  Eigen::Matrix3d R_model_triad;  // M_S R (4.110, 4.111)
-  Eigen::Vector3d centroid;       // M P̄m (4.109)
-  std::vector<PointMap> maps;     // from the barycentric coordinates (4.91)
-};
 
 bool MakeTriad(const Eigen::Matrix3Xd& model, Triad* triad) {
   triad->centroid = model.rowwise().mean();  // (4.109)
@@ -26,10 +19,9 @@ bool MakeTriad(const Eigen::Matrix3Xd& model, Triad* triad) {
   Eigen::Matrix4Xd alpha;
   if (!Barycentric(vertices, model, &alpha)) return false;
   triad->maps = SimplexPointMaps(alpha);
+  triad->vertices = vertices;
   return true;
 }
-
-}  // namespace
 
 // Vertices of the triad in the camera from C_S R and Ps1 (4.116–4.118).
 void TriadParam(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const Eigen::Matrix3d dR[3], Vector12d* v,
