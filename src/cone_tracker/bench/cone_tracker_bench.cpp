@@ -27,14 +27,17 @@ double MedianMicros(const std::vector<Input>& inputs, int repeats, const std::fu
     bool ok = true;
     const auto start = std::chrono::steady_clock::now();
     for (int r = 0; r < repeats; ++r) ok = solve(in) && ok;
-    times.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count() / repeats);
+    times.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count() /
+                    repeats);
     *failures += ok ? 0 : 1;
   }
   std::nth_element(times.begin(), times.begin() + times.size() / 2, times.end());
   return times[times.size() / 2];
 }
 
-void Print(const char* name, double value, const char* unit) { std::printf("BENCH cone_tracker.%s %.4g %s\n", name, value, unit); }
+void Print(const char* name, double value, const char* unit) {
+  std::printf("BENCH cone_tracker.%s %.4g %s\n", name, value, unit);
+}
 
 }  // namespace
 
@@ -48,7 +51,8 @@ int main() {
   }
   constexpr int kRepeats = 5;
   int failures = 0;
-  std::printf("cone layout, 9 points, sigma 1 px, %zu cases, median of per-case mean over %d calls\n", inputs.size(), kRepeats);
+  std::printf("cone layout, 9 points, sigma 1 px, %zu cases, median of per-case mean over %d calls\n", inputs.size(),
+              kRepeats);
 
   const auto ours = [&](cone_tracker::PnpMethod method, bool covariance) {
     cone_tracker::PnpOptions o;
@@ -61,16 +65,20 @@ int main() {
   Print("best_failures", failures, "cases");
   const double best_cov_us = MedianMicros(inputs, kRepeats, ours(cone_tracker::PnpMethod::kBest, true), &failures);
   Print("best_with_covariance_median", best_cov_us, "us");
-  for (const auto m : {cone_tracker::PnpMethod::kSimplexIs, cone_tracker::PnpMethod::kOia, cone_tracker::PnpMethod::kEpnpGn}) {
+  for (const auto m :
+       {cone_tracker::PnpMethod::kSimplexIs, cone_tracker::PnpMethod::kOia, cone_tracker::PnpMethod::kEpnpGn}) {
     const std::string name = cone_tracker::PnpMethodName(m) + "_median";
     Print(name.c_str(), MedianMicros(inputs, kRepeats, ours(m, false), &failures), "us");
   }
   double sqpnp_us = 0.0;
   for (const auto& m : cone_tracker::baseline::OpenCvMethods()) {
-    const double us = MedianMicros(inputs, kRepeats, [&](const Input& in) {
-      pose_math::Pose T;
-      return cone_tracker::baseline::SolveOpenCv(m.flag, in.truth.camera, in.truth.model, in.noisy, &T);
-    }, &failures);
+    const double us = MedianMicros(
+        inputs, kRepeats,
+        [&](const Input& in) {
+          pose_math::Pose T;
+          return cone_tracker::baseline::SolveOpenCv(m.flag, in.truth.camera, in.truth.model, in.noisy, &T);
+        },
+        &failures);
     std::string name = m.name;
     std::replace(name.begin(), name.end(), '-', '_');
     Print((name + "_median").c_str(), us, "us");

@@ -52,9 +52,11 @@ TEST(CovarianceJacobians, QuaternionImageAndObjectMatchNumeric) {
     ObjectJacobiansQuat(T, m, w, &Ao, &Bo);
     for (const pose_math::Vector7d& d : TangentDirections(T.q)) {
       const Eigen::Vector2d ni = (ImageResidual(Shift(T, d, kH), m, w, s.c.fx_px, s.c.fy_px) -
-                                  ImageResidual(Shift(T, d, -kH), m, w, s.c.fx_px, s.c.fy_px)) / (2 * kH);
+                                  ImageResidual(Shift(T, d, -kH), m, w, s.c.fx_px, s.c.fy_px)) /
+                                 (2 * kH);
       EXPECT_LT((ni - Ai * d).norm(), 1e-6 * (1.0 + ni.norm()));
-      const Eigen::Vector3d no = (ObjectResidual(Shift(T, d, kH), m, w) - ObjectResidual(Shift(T, d, -kH), m, w)) / (2 * kH);
+      const Eigen::Vector3d no =
+          (ObjectResidual(Shift(T, d, kH), m, w) - ObjectResidual(Shift(T, d, -kH), m, w)) / (2 * kH);
       EXPECT_LT((no - Ao * d).norm(), 1e-8);
     }
     for (int k = 0; k < 2; ++k) {  // noise on the normalised image point
@@ -88,9 +90,11 @@ TEST(CovarianceJacobians, EulerImageAndObjectMatchNumeric) {
       Eigen::Matrix<double, 6, 1> d = Eigen::Matrix<double, 6, 1>::Zero();
       d(k) = kH;
       const Eigen::Vector2d ni = (ImageResidual(pose_of(th + d), m, w, s.c.fx_px, s.c.fy_px) -
-                                  ImageResidual(pose_of(th - d), m, w, s.c.fx_px, s.c.fy_px)) / (2 * kH);
+                                  ImageResidual(pose_of(th - d), m, w, s.c.fx_px, s.c.fy_px)) /
+                                 (2 * kH);
       EXPECT_LT((ni - Ai.col(k)).norm(), 1e-6 * (1.0 + ni.norm()));
-      const Eigen::Vector3d no = (ObjectResidual(pose_of(th + d), m, w) - ObjectResidual(pose_of(th - d), m, w)) / (2 * kH);
+      const Eigen::Vector3d no =
+          (ObjectResidual(pose_of(th + d), m, w) - ObjectResidual(pose_of(th - d), m, w)) / (2 * kH);
       EXPECT_LT((no - Ao.col(k)).norm(), 1e-8);
     }
   }
@@ -115,7 +119,7 @@ TEST(CovarianceMonteCarlo, PredictedStandardDeviationsMatchSampled) {
     for (int n = 0; n < kTrials; ++n) {
       const Correspondences c = ToCorrespondences(k, sim::AddNoise(rng, k.image, kSigmaPx));
       const Estimate est = space == ErrorSpace::kImage ? CeresRefine(c, k.T_camera_model, false, 2.0, 50)
-                                                      : OrthogonalIteration(c, &k.T_camera_model, 500, 1e-14);
+                                                       : OrthogonalIteration(c, &k.T_camera_model, 500, 1e-14);
       ASSERT_TRUE(est.ok);
       pose_math::Quat q = est.T_camera_model.q;
       if (q.dot(k.T_camera_model.q) < 0) q = -q;

@@ -161,7 +161,9 @@ TEST(EulerDerivatives, MatchNumeric) {
   const double a = 0.3, b = -0.7, g = 1.1, h = 1e-6;
   Eigen::Matrix3d dR[3];
   EulerRotationDerivatives(a, b, g, dR);
-  const auto R = [](double x, double y, double z) -> Eigen::Matrix3d { return pose_math::RotZ(x) * pose_math::RotY(y) * pose_math::RotX(z); };
+  const auto R = [](double x, double y, double z) -> Eigen::Matrix3d {
+    return pose_math::RotZ(x) * pose_math::RotY(y) * pose_math::RotX(z);
+  };
   EXPECT_LT(((R(a + h, b, g) - R(a - h, b, g)) / (2 * h) - dR[0]).norm(), 1e-9);
   EXPECT_LT(((R(a, b + h, g) - R(a, b - h, g)) / (2 * h) - dR[1]).norm(), 1e-9);
   EXPECT_LT(((R(a, b, g + h) - R(a, b, g - h)) / (2 * h) - dR[2]).norm(), 1e-9);

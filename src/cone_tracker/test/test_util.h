@@ -28,8 +28,8 @@ inline Correspondences ToCorrespondences(const sim::Case& k) { return ToCorrespo
 inline ::testing::AssertionResult PoseNear(const pose_math::Pose& a, const pose_math::Pose& b, double tol) {
   const double r = pose_math::RotationErrorRad(a, b), t = pose_math::TranslationError(a, b);
   if (r <= tol && t <= tol) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "rotation error " << r << " rad, translation error " << t << " m (tol "
-                                       << tol << ")";
+  return ::testing::AssertionFailure() << "rotation error " << r << " rad, translation error " << t << " m (tol " << tol
+                                       << ")";
 }
 
 // A handful of noise-free random clouds and cone layouts.

@@ -27,8 +27,12 @@ Method Chain(const std::string& name, const Linear& start,
           }};
 }
 
-Linear MdltLin(ErrorSpace s) { return [s](const Correspondences& c) { return MdltLinear(c, s); }; }
-Linear SimplexLin(ErrorSpace s) { return [s](const Correspondences& c) { return SimplexLinear(c, s); }; }
+Linear MdltLin(ErrorSpace s) {
+  return [s](const Correspondences& c) { return MdltLinear(c, s); };
+}
+Linear SimplexLin(ErrorSpace s) {
+  return [s](const Correspondences& c) { return SimplexLinear(c, s); };
+}
 auto Oia() {
   return [](const Correspondences& c, const pose_math::Pose& T) { return OrthogonalIteration(c, &T, 200, 1e-12); };
 }
@@ -89,8 +93,8 @@ std::vector<Method> GroupMethods(int group) {
            Single("3-Simplex (IS)", SimplexLin(IS)), Single("3-Simplex (OS)", SimplexLin(OS))};
       break;
     case 2:
-      m = {Single("EPnP (v1)", EpnpLinear), Single("EPnP (v2)", EpnpGaussNewton),
-           Single("3-Simplex SDP (IS)", sdp(IS)), Single("3-Simplex SDP (OS)", sdp(OS))};
+      m = {Single("EPnP (v1)", EpnpLinear), Single("EPnP (v2)", EpnpGaussNewton), Single("3-Simplex SDP (IS)", sdp(IS)),
+           Single("3-Simplex SDP (OS)", sdp(OS))};
       break;
     case 3:
     case 4: {

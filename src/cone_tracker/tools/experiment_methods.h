@@ -14,7 +14,7 @@ namespace experiments {
 struct Trial {
   sim::Case truth;
   std::vector<Eigen::Vector2d> noisy_px;
-  Correspondences c;  // from noisy_px
+  Correspondences c;      // from noisy_px
   double sigma_px = 1.0;  // the noise added, told to SolvePnp as a user would
 };
 Trial MakeTrial(sim::Case truth, std::vector<Eigen::Vector2d> noisy_px, double sigma_px);

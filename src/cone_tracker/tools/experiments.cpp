@@ -63,7 +63,9 @@ void RunSetups(const std::string& out, int trials_per_setup) {
   std::vector<Setup> setups;
   for (int g = 1; g <= 4; ++g)
     for (int n : {10, 25})
-      for (double s : {5.0, 10.0}) setups.push_back({"group" + std::to_string(g) + "_n" + std::to_string(n) + "_s" + std::to_string(int(s)), g, n, s});
+      for (double s : {5.0, 10.0})
+        setups.push_back(
+            {"group" + std::to_string(g) + "_n" + std::to_string(n) + "_s" + std::to_string(int(s)), g, n, s});
   for (double s : {25.0, 50.0, 75.0}) setups.push_back({"group5_n10_s" + std::to_string(int(s)), 5, 10, s});
   for (double s : {0.5, 1.0, 2.0, 3.0}) {
     char name[32];
@@ -102,9 +104,10 @@ void RunSetups(const std::string& out, int trials_per_setup) {
       cv_rot = std::min(cv_rot, medians[cv].first);
       cv_pos = std::min(cv_pos, medians[cv].second);
     }
-    std::printf("ACCURACY %-18s best rot %.4f deg (best OpenCV %.4f, ratio %.4f)  pos %.3f mm (best OpenCV %.3f, ratio %.4f)\n",
-                s.name.c_str(), medians["best"].first, cv_rot, medians["best"].first / cv_rot, medians["best"].second,
-                cv_pos, medians["best"].second / cv_pos);
+    std::printf(
+        "ACCURACY %-18s best rot %.4f deg (best OpenCV %.4f, ratio %.4f)  pos %.3f mm (best OpenCV %.3f, ratio %.4f)\n",
+        s.name.c_str(), medians["best"].first, cv_rot, medians["best"].first / cv_rot, medians["best"].second, cv_pos,
+        medians["best"].second / cv_pos);
     std::fflush(stdout);
   }
 }
@@ -128,10 +131,14 @@ int main(int argc, char** argv) {
   int trials = 500, cone_trials = 10000, mc_trials = 1000;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
-    if (a == "--out") out = argv[i + 1];
-    else if (a == "--trials") trials = std::stoi(argv[i + 1]);
-    else if (a == "--cone-trials") cone_trials = std::stoi(argv[i + 1]);
-    else if (a == "--mc-trials") mc_trials = std::stoi(argv[i + 1]);
+    if (a == "--out")
+      out = argv[i + 1];
+    else if (a == "--trials")
+      trials = std::stoi(argv[i + 1]);
+    else if (a == "--cone-trials")
+      cone_trials = std::stoi(argv[i + 1]);
+    else if (a == "--mc-trials")
+      mc_trials = std::stoi(argv[i + 1]);
     else {
       std::cerr << "usage: cone_tracker_experiments --out DIR [--trials N] [--cone-trials N] [--mc-trials N]\n";
       return 2;

@@ -23,23 +23,43 @@ struct ThesisTable {
   double values[7][3][2];
 };
 const ThesisTable kThesis[4] = {
-    {"Figure 7.3: image space, Euler angles", ErrorSpace::kImage, false,
-     {{{.0469, .0487}, {.0220, .0222}, {.0396, .0303}}, {{.0212, .0218}, {.0179, .0168}, {.0223, .0231}},
-      {{.0439, .0443}, {.0168, .0158}, {.0378, .0261}}, {{5.7136, 5.7620}, {4.7803, 5.0047}, {7.7118, 6.9733}},
-      {{5.2124, 5.2909}, {6.3891, 6.1433}, {8.6137, 6.0114}}, {{6.6508, 6.9735}, {6.2329, 6.2856}, {9.8118, 7.4261}}}},
-    {"Figure 7.4: image space, quaternion", ErrorSpace::kImage, true,
-     {{{.0077, .0075}, {.0097, .0098}, {.0135, .0109}}, {{.0101, .0103}, {.0057, .0050}, {.0115, .0083}},
-      {{.0101, .0105}, {.0056, .0052}, {.0130, .0115}}, {{.0077, .0072}, {.0101, .0099}, {.0132, .0106}},
-      {{5.7136, 5.7620}, {4.7803, 5.0047}, {7.7118, 6.9733}}, {{5.2124, 5.2909}, {6.3891, 6.1433}, {8.6137, 6.0114}},
+    {"Figure 7.3: image space, Euler angles",
+     ErrorSpace::kImage,
+     false,
+     {{{.0469, .0487}, {.0220, .0222}, {.0396, .0303}},
+      {{.0212, .0218}, {.0179, .0168}, {.0223, .0231}},
+      {{.0439, .0443}, {.0168, .0158}, {.0378, .0261}},
+      {{5.7136, 5.7620}, {4.7803, 5.0047}, {7.7118, 6.9733}},
+      {{5.2124, 5.2909}, {6.3891, 6.1433}, {8.6137, 6.0114}},
       {{6.6508, 6.9735}, {6.2329, 6.2856}, {9.8118, 7.4261}}}},
-    {"Figure 7.5: object space, Euler angles", ErrorSpace::kObject, false,
-     {{{.0475, .0486}, {.0222, .0224}, {.0403, .0296}}, {{.0217, .0213}, {.0181, .0164}, {.0224, .0234}},
-      {{.0447, .0459}, {.0169, .0158}, {.0385, .0284}}, {{5.8582, 5.7363}, {4.8155, 4.9306}, {7.7852, 7.1507}},
-      {{5.2913, 5.2787}, {6.4386, 5.9908}, {8.7470, 6.2901}}, {{6.7576, 6.6861}, {6.2976, 6.3086}, {9.9881, 7.0801}}}},
-    {"Figure 7.6: object space, quaternion", ErrorSpace::kObject, true,
-     {{{.0079, .0079}, {.0098, .0096}, {.0136, .0114}}, {{.0103, .0102}, {.0058, .0050}, {.0117, .0084}},
-      {{.0104, .0101}, {.0056, .0053}, {.0133, .0114}}, {{.0079, .0076}, {.0102, .0099}, {.0135, .0111}},
-      {{5.8579, 5.7363}, {4.8153, 4.9306}, {7.7862, 7.1507}}, {{5.2916, 5.2787}, {6.4386, 5.9908}, {8.7453, 6.2901}},
+    {"Figure 7.4: image space, quaternion",
+     ErrorSpace::kImage,
+     true,
+     {{{.0077, .0075}, {.0097, .0098}, {.0135, .0109}},
+      {{.0101, .0103}, {.0057, .0050}, {.0115, .0083}},
+      {{.0101, .0105}, {.0056, .0052}, {.0130, .0115}},
+      {{.0077, .0072}, {.0101, .0099}, {.0132, .0106}},
+      {{5.7136, 5.7620}, {4.7803, 5.0047}, {7.7118, 6.9733}},
+      {{5.2124, 5.2909}, {6.3891, 6.1433}, {8.6137, 6.0114}},
+      {{6.6508, 6.9735}, {6.2329, 6.2856}, {9.8118, 7.4261}}}},
+    {"Figure 7.5: object space, Euler angles",
+     ErrorSpace::kObject,
+     false,
+     {{{.0475, .0486}, {.0222, .0224}, {.0403, .0296}},
+      {{.0217, .0213}, {.0181, .0164}, {.0224, .0234}},
+      {{.0447, .0459}, {.0169, .0158}, {.0385, .0284}},
+      {{5.8582, 5.7363}, {4.8155, 4.9306}, {7.7852, 7.1507}},
+      {{5.2913, 5.2787}, {6.4386, 5.9908}, {8.7470, 6.2901}},
+      {{6.7576, 6.6861}, {6.2976, 6.3086}, {9.9881, 7.0801}}}},
+    {"Figure 7.6: object space, quaternion",
+     ErrorSpace::kObject,
+     true,
+     {{{.0079, .0079}, {.0098, .0096}, {.0136, .0114}},
+      {{.0103, .0102}, {.0058, .0050}, {.0117, .0084}},
+      {{.0104, .0101}, {.0056, .0053}, {.0133, .0114}},
+      {{.0079, .0076}, {.0102, .0099}, {.0135, .0111}},
+      {{5.8579, 5.7363}, {4.8153, 4.9306}, {7.7862, 7.1507}},
+      {{5.2916, 5.2787}, {6.4386, 5.9908}, {8.7453, 6.2901}},
       {{6.7578, 6.6861}, {6.2969, 6.3086}, {9.9881, 7.0801}}}},
 };
 const double kSigmas[3] = {5.0, 7.5, 10.0};
@@ -65,9 +85,19 @@ Stds Run(const sim::Case& k, ErrorSpace space, double sigma, int trials, std::mt
     if (q.dot(k.T_camera_model.q) < 0.0) q = -q;
     const pose_math::EulerZyx e = pose_math::EulerZyxFromRotation(RotationOf(est.T_camera_model));
     const Eigen::Vector3d t_mm = 1000.0 * est.T_camera_model.t;
-    const double values[13] = {q[0], q[1], q[2], q[3], t_mm.x(), t_mm.y(), t_mm.z(),
-                               e.alpha_rad - e0.alpha_rad, e.beta_rad - e0.beta_rad, e.gamma_rad - e0.gamma_rad,
-                               t_mm.x(), t_mm.y(), t_mm.z()};
+    const double values[13] = {q[0],
+                               q[1],
+                               q[2],
+                               q[3],
+                               t_mm.x(),
+                               t_mm.y(),
+                               t_mm.z(),
+                               e.alpha_rad - e0.alpha_rad,
+                               e.beta_rad - e0.beta_rad,
+                               e.gamma_rad - e0.gamma_rad,
+                               t_mm.x(),
+                               t_mm.y(),
+                               t_mm.z()};
     for (int p = 0; p < 13; ++p) samples[p].push_back(values[p]);
   }
   Stds s;
@@ -91,11 +121,17 @@ void MonteCarloTables(int trials, std::ostream& out, std::ostream& copy) {
   const char* quat_names[7] = {"q0", "qx", "qy", "qz", "tx", "ty", "tz"};
   Stds results[2][3];  // space × σ
   for (int s = 0; s < 2; ++s)
-    for (int j = 0; j < 3; ++j) results[s][j] = Run(k, s == 0 ? ErrorSpace::kImage : ErrorSpace::kObject, kSigmas[j], trials, rng);
+    for (int j = 0; j < 3; ++j)
+      results[s][j] = Run(k, s == 0 ? ErrorSpace::kImage : ErrorSpace::kObject, kSigmas[j], trials, rng);
   char line[512];
-  const auto emit = [&](const std::string& text) { out << text; copy << text; };
-  std::snprintf(line, sizeof(line), "Monte Carlo (7.1.3): one pose, 25 points, %d trials per sigma. Angles in rad, t in mm.\n"
-                "Columns per sigma: ours predicted / actual (ratio) | thesis estimated / actual (ratio)\n", trials);
+  const auto emit = [&](const std::string& text) {
+    out << text;
+    copy << text;
+  };
+  std::snprintf(line, sizeof(line),
+                "Monte Carlo (7.1.3): one pose, 25 points, %d trials per sigma. Angles in rad, t in mm.\n"
+                "Columns per sigma: ours predicted / actual (ratio) | thesis estimated / actual (ratio)\n",
+                trials);
   emit(line);
   for (const ThesisTable& table : kThesis) {
     const int s = table.space == ErrorSpace::kImage ? 0 : 1;
@@ -107,7 +143,8 @@ void MonteCarloTables(int trials, std::ostream& out, std::ostream& copy) {
       for (int j = 0; j < 3; ++j) {
         const double pred = results[s][j].predicted[offset + r], act = results[s][j].actual[offset + r];
         std::snprintf(line, sizeof(line), " | s=%-4g %8.4f %8.4f (%5.3f) | %8.4f %8.4f (%5.3f)", kSigmas[j], pred, act,
-                      pred / act, table.values[r][j][0], table.values[r][j][1], table.values[r][j][0] / table.values[r][j][1]);
+                      pred / act, table.values[r][j][0], table.values[r][j][1],
+                      table.values[r][j][0] / table.values[r][j][1]);
         text += line;
       }
       emit(text + "\n");
@@ -115,7 +152,8 @@ void MonteCarloTables(int trials, std::ostream& out, std::ostream& copy) {
         std::snprintf(line, sizeof(line), "MONTE_CARLO %s %s sigma=%g %s predicted %.6g actual %.6g ratio %.4f\n",
                       s == 0 ? "image" : "object", table.quaternion ? "quaternion" : "euler", kSigmas[j],
                       table.quaternion ? quat_names[r] : euler_names[r], results[s][j].predicted[offset + r],
-                      results[s][j].actual[offset + r], results[s][j].predicted[offset + r] / results[s][j].actual[offset + r]);
+                      results[s][j].actual[offset + r],
+                      results[s][j].predicted[offset + r] / results[s][j].actual[offset + r]);
         copy << line;
       }
     }

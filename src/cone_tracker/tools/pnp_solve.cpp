@@ -72,7 +72,8 @@ int main(int argc, char** argv) {
       result["ok"] = false;
       result["error"] = e.what();
     }
-    if (!result["ok"].get<bool>()) result["error"] = "line " + std::to_string(line_number) + ": " + result["error"].get<std::string>();
+    if (!result["ok"].get<bool>())
+      result["error"] = "line " + std::to_string(line_number) + ": " + result["error"].get<std::string>();
     failures += result["ok"].get<bool>() ? 0 : 1;
     out << result.dump() << "\n";
   }

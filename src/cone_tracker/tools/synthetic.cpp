@@ -78,7 +78,8 @@ Case ConeLayout(std::mt19937& rng) {
     // Camera centre on a sphere around the layout, looking at a point near
     // its middle, image x axis level (z down in the image is world down).
     const double az = azimuth(rng), el = elevation(rng), d = distance(rng);
-    const Eigen::Vector3d centre = d * Eigen::Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+    const Eigen::Vector3d centre =
+        d * Eigen::Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
     const Eigen::Vector3d target(jitter(rng), jitter(rng), 0.35 + jitter(rng));
     const Eigen::Vector3d z = (target - centre).normalized();
     const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();

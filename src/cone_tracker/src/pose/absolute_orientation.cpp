@@ -10,10 +10,9 @@
 namespace cone_tracker {
 
 pose_math::Pose AbsoluteOrientationSvd(const Eigen::Matrix3Xd& model, const Eigen::Matrix3Xd& camera) {
-  const Eigen::Vector3d model_mean = model.rowwise().mean();    // (4.36)
+  const Eigen::Vector3d model_mean = model.rowwise().mean();  // (4.36)
   const Eigen::Vector3d camera_mean = camera.rowwise().mean();
-  const Eigen::Matrix3d M =
-      (camera.colwise() - camera_mean) * (model.colwise() - model_mean).transpose();  // (4.38)
+  const Eigen::Matrix3d M = (camera.colwise() - camera_mean) * (model.colwise() - model_mean).transpose();  // (4.38)
   // U diag(1, 1, det(UVᵀ)) Vᵀ (4.39, 4.40, with the determinant fix of [40]).
   const Eigen::Matrix3d R = pose_math::NearestRotation(M);
   return PoseFromRt(R, camera_mean - R * model_mean);  // (4.37)
@@ -31,7 +30,7 @@ pose_math::Pose AbsoluteOrientationQuat(const Eigen::Matrix3Xd& model, const Eig
     N += pose_math::LeftMatrix(c).transpose() * pose_math::RightMatrix(m);
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(0.5 * (N + N.transpose()));  // (4.42)
-  const pose_math::Quat q = eig.eigenvectors().col(3);                                   // largest (4.43)
+  const pose_math::Quat q = eig.eigenvectors().col(3);                                  // largest (4.43)
   pose_math::Pose T;
   T.q = pose_math::CanonicalSign(pose_math::NormalizedQuat(q));
   T.t = camera_mean - pose_math::RotationFromQuat(T.q) * model_mean;  // (4.37)

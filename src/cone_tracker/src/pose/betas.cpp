@@ -41,7 +41,8 @@ std::vector<QuadraticConstraint> DotProductConstraints(const Matrix12d& V, int c
     for (int i = 0; i < 4; ++i)
       for (int j = i + 1; j < 4; ++j) {
         if (i == k || j == k) continue;
-        const double target = (model_vertices.col(i) - model_vertices.col(k)).dot(model_vertices.col(j) - model_vertices.col(k));
+        const double target =
+            (model_vertices.col(i) - model_vertices.col(k)).dot(model_vertices.col(j) - model_vertices.col(k));
         out.push_back(DotConstraint(V, count, i, j, k, target));  // (4.135)
       }
   return out;
@@ -81,7 +82,7 @@ Estimate PoseFromBetas(const Correspondences& c, const std::vector<PointMap>& ma
   Vector12d vertices = Vector12d::Zero();
   for (int a = 0; a < count; ++a) vertices += beta(a) * V.col(a);  // (4.122)
   Eigen::Matrix3Xd camera = CameraPoints(maps, vertices);          // (4.123)
-  if (camera.row(2).mean() < 0.0) camera = -camera;  // the sign ambiguity of 4.153
+  if (camera.row(2).mean() < 0.0) camera = -camera;                // the sign ambiguity of 4.153
   if (!camera.allFinite()) return Failure("non-finite eigenvector combination");
   Estimate e;
   e.ok = true;

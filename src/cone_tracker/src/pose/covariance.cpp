@@ -28,7 +28,8 @@ Eigen::Matrix<double, 3, 2> ProjectorDerivative(const Eigen::Vector2d& normalize
 }
 
 void CheckSigma(double sigma_px) {
-  if (!(sigma_px > 0.0) || !std::isfinite(sigma_px)) throw std::invalid_argument("pose covariance: sigma_px must be > 0");
+  if (!(sigma_px > 0.0) || !std::isfinite(sigma_px))
+    throw std::invalid_argument("pose covariance: sigma_px must be > 0");
 }
 
 }  // namespace
@@ -36,11 +37,14 @@ void CheckSigma(double sigma_px) {
 Eigen::Vector2d ImageResidual(const pose_math::Pose& T, const Eigen::Vector3d& model, const Eigen::Vector2d& normalized,
                               double fx_px, double fy_px) {
   const Eigen::Vector3d p = pose_math::Transform(T, model);
-  return Eigen::Vector2d(fx_px * (p.x() / p.z() - normalized.x()), fy_px * (p.y() / p.z() - normalized.y()));  // (5.56, 5.57)
+  return Eigen::Vector2d(fx_px * (p.x() / p.z() - normalized.x()),
+                         fy_px * (p.y() / p.z() - normalized.y()));  // (5.56, 5.57)
 }
 
-Eigen::Vector3d ObjectResidual(const pose_math::Pose& T, const Eigen::Vector3d& model, const Eigen::Vector2d& normalized) {
-  return (Eigen::Matrix3d::Identity() - LineOfSightProjector(normalized)) * pose_math::Transform(T, model);  // (5.63–5.65)
+Eigen::Vector3d ObjectResidual(const pose_math::Pose& T, const Eigen::Vector3d& model,
+                               const Eigen::Vector2d& normalized) {
+  return (Eigen::Matrix3d::Identity() - LineOfSightProjector(normalized)) *
+         pose_math::Transform(T, model);  // (5.63–5.65)
 }
 
 Eigen::Matrix<double, 2, 7> ImageJacobianQuat(const pose_math::Pose& T, const Eigen::Vector3d& model, double fx_px,
@@ -110,17 +114,20 @@ pose_math::Matrix7d PoseCovarianceQuat(const Correspondences& c, const pose_math
                                        double sigma_px) {
   CheckSigma(sigma_px);
   Eigen::MatrixXd A, sigma_n;
-  Stack<7>(c, space, sigma_px, [&](int i, Eigen::MatrixXd* Ai, Eigen::MatrixXd* Bi) {
-    if (space == ErrorSpace::kImage) {
-      *Ai = ImageJacobianQuat(T, c.model.col(i), c.fx_px, c.fy_px);
-    } else {
-      Eigen::Matrix<double, 3, 7> a;
-      Eigen::Matrix<double, 3, 2> b;
-      ObjectJacobiansQuat(T, c.model.col(i), c.normalized.col(i), &a, &b);
-      *Ai = a;
-      *Bi = b;
-    }
-  }, &A, &sigma_n);
+  Stack<7>(
+      c, space, sigma_px,
+      [&](int i, Eigen::MatrixXd* Ai, Eigen::MatrixXd* Bi) {
+        if (space == ErrorSpace::kImage) {
+          *Ai = ImageJacobianQuat(T, c.model.col(i), c.fx_px, c.fy_px);
+        } else {
+          Eigen::Matrix<double, 3, 7> a;
+          Eigen::Matrix<double, 3, 2> b;
+          ObjectJacobiansQuat(T, c.model.col(i), c.normalized.col(i), &a, &b);
+          *Ai = a;
+          *Bi = b;
+        }
+      },
+      &A, &sigma_n);
   return pose_math::ConstrainedPoseCovariance(T.q, A, sigma_n);  // (5.52 with 5.74)
 }
 
@@ -128,17 +135,20 @@ Matrix6d PoseCovarianceEuler(const Correspondences& c, const pose_math::Pose& T,
   CheckSigma(sigma_px);
   const pose_math::EulerZyx e = pose_math::EulerZyxFromRotation(RotationOf(T));
   Eigen::MatrixXd A, sigma_n;
-  Stack<6>(c, space, sigma_px, [&](int i, Eigen::MatrixXd* Ai, Eigen::MatrixXd* Bi) {
-    if (space == ErrorSpace::kImage) {
-      *Ai = ImageJacobianEuler(e, T.t, c.model.col(i), c.fx_px, c.fy_px);
-    } else {
-      Eigen::Matrix<double, 3, 6> a;
-      Eigen::Matrix<double, 3, 2> b;
-      ObjectJacobiansEuler(e, T.t, c.model.col(i), c.normalized.col(i), &a, &b);
-      *Ai = a;
-      *Bi = b;
-    }
-  }, &A, &sigma_n);
+  Stack<6>(
+      c, space, sigma_px,
+      [&](int i, Eigen::MatrixXd* Ai, Eigen::MatrixXd* Bi) {
+        if (space == ErrorSpace::kImage) {
+          *Ai = ImageJacobianEuler(e, T.t, c.model.col(i), c.fx_px, c.fy_px);
+        } else {
+          Eigen::Matrix<double, 3, 6> a;
+          Eigen::Matrix<double, 3, 2> b;
+          ObjectJacobiansEuler(e, T.t, c.model.col(i), c.normalized.col(i), &a, &b);
+          *Ai = a;
+          *Bi = b;
+        }
+      },
+      &A, &sigma_n);
   const Matrix6d normal = A.transpose() * A;
   const Eigen::LDLT<Matrix6d> ldlt(normal);
   if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 1e-12 * ldlt.vectorD().maxCoeff()))

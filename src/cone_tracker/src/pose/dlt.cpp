@@ -36,7 +36,7 @@ Estimate Dlt(const Correspondences& c) {
   if (depth_sum < 0.0) D = -D;
   Eigen::Matrix3d R;
   R << L(0), L(1), L(2), L(4), L(5), L(6), L(8), L(9), L(10);
-  R *= D;                                            // (4.32)
+  R *= D;                                                          // (4.32)
   const Eigen::Vector3d t = D * Eigen::Vector3d(L(3), L(7), 1.0);  // (4.34, 4.35)
   Estimate e;
   e.rotation_nonorthogonality = (R.transpose() * R - Eigen::Matrix3d::Identity()).norm();

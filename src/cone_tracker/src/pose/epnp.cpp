@@ -23,7 +23,8 @@ bool Setup(const Correspondences& c, EpnpSetup* s) {
   const Eigen::JacobiSVD<Eigen::Matrix3Xd> svd(c.model.colwise() - centroid, Eigen::ComputeFullU);
   const double n = c.size();
   s->control.col(0) = centroid;
-  for (int k = 0; k < 3; ++k) s->control.col(k + 1) = centroid + svd.singularValues()(k) / std::sqrt(n) * svd.matrixU().col(k);
+  for (int k = 0; k < 3; ++k)
+    s->control.col(k + 1) = centroid + svd.singularValues()(k) / std::sqrt(n) * svd.matrixU().col(k);
   Eigen::Matrix4Xd alpha;
   if (!Barycentric(s->control, c.model, &alpha)) return false;
   s->maps = SimplexPointMaps(alpha);

@@ -50,8 +50,8 @@ Estimate MdltLinear(const Correspondences& c, ErrorSpace space) {
   if (!check.ok) return check;
   const std::vector<PointMap> maps = MdltPointMaps(c.model);
   const NullSpace ns = DecomposeMeasurementMatrix(MeasurementMatrix(c, maps, space));  // (4.62–4.73)
-  const Vector12d L = ns.V.col(0);                                   // (4.73, 4.74)
-  return ScaleAndAlign(c.model, CameraPoints(maps, L));                                   // (4.75–4.79)
+  const Vector12d L = ns.V.col(0);                                                     // (4.73, 4.74)
+  return ScaleAndAlign(c.model, CameraPoints(maps, L));                                // (4.75–4.79)
 }
 
 Estimate MdltGaussNewton(const Correspondences& c, ErrorSpace space, const pose_math::Pose& initial,

@@ -114,7 +114,8 @@ bool SolveMomentRelaxation(const std::vector<QuadraticConstraint>& constraints, 
   for (const QuadraticConstraint& q : constraints) {
     Eigen::VectorXd cz(K + 1);
     cz(0) = -q.target;
-    for (int k = 0; k < K; ++k) cz(k + 1) = (mono[k].first == mono[k].second ? 1.0 : 2.0) * q.Q(mono[k].first, mono[k].second);
+    for (int k = 0; k < K; ++k)
+      cz(k + 1) = (mono[k].first == mono[k].second ? 1.0 : 2.0) * q.Q(mono[k].first, mono[k].second);
     W += cz * cz.transpose();
   }
   W /= std::max(1e-300, W.diagonal().maxCoeff());  // scale for the solver's tolerances

@@ -1,9 +1,9 @@
 #include "null_space.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <Eigen/QR>
-#include <Eigen/Eigenvalues>
 #include <cmath>
 
 #include "pose_math/quaternion.h"
@@ -23,8 +23,7 @@ Eigen::MatrixXd MeasurementMatrix(const Correspondences& c, const std::vector<Po
       M.row(2 * i + 1) = c.fy_px * (maps[i].row(1) - y * maps[i].row(2));
     } else {
       // e = (F_i − I) p_c (4.52–4.54).
-      M.middleRows<3>(3 * i) =
-          (LineOfSightProjector(c.normalized.col(i)) - Eigen::Matrix3d::Identity()) * maps[i];
+      M.middleRows<3>(3 * i) = (LineOfSightProjector(c.normalized.col(i)) - Eigen::Matrix3d::Identity()) * maps[i];
     }
   }
   return M;
@@ -82,8 +81,8 @@ GaussNewtonResult NullSpaceGaussNewton(const Matrix12d& reduced, NullSpaceParam 
   for (; r.iterations < max_iterations; ++r.iterations) {
     LeftEulerDerivatives(r.R, dR);
     param(r.R, r.t, dR, &v, &dv);
-    const Vector12d f = reduced * v;                                // (4.85)
-    const Eigen::Matrix<double, 12, 6> J = reduced * dv;            // (4.86)
+    const Vector12d f = reduced * v;                                                                // (4.85)
+    const Eigen::Matrix<double, 12, 6> J = reduced * dv;                                            // (4.86)
     const Eigen::Matrix<double, 6, 1> step = -(J.transpose() * J).ldlt().solve(J.transpose() * f);  // (4.87)
     if (!step.allFinite()) break;
     // Halve the step until the cost drops (plain Gauss–Newton may overshoot).

@@ -81,7 +81,7 @@ Estimate P3pFischlerBolles(const Correspondences& c) {
     model3.col(k) = c.model.col(idx[k]);
   }
   const double cab = w[0].dot(w[1]), cac = w[0].dot(w[2]), cbc = w[1].dot(w[2]);  // (4.11)
-  const double dab2 = (model3.col(0) - model3.col(1)).squaredNorm();             // (4.12)
+  const double dab2 = (model3.col(0) - model3.col(1)).squaredNorm();              // (4.12)
   const double dac2 = (model3.col(0) - model3.col(2)).squaredNorm();
   const double dbc2 = (model3.col(1) - model3.col(2)).squaredNorm();
   // With b = x a, c = y a (4.13), eliminating a² leaves two quadratics in y,

@@ -10,7 +10,7 @@ namespace cone_tracker {
 bool MakeTriad(const Eigen::Matrix3Xd& model, Triad* triad) {
   triad->centroid = model.rowwise().mean();  // (4.109)
   const Eigen::JacobiSVD<Eigen::Matrix3Xd> svd(model.colwise() - triad->centroid, Eigen::ComputeFullU);
-  Eigen::Matrix3d R = svd.matrixU();  // principal directions (4.110)
+  Eigen::Matrix3d R = svd.matrixU();            // principal directions (4.110)
   if (R.determinant() < 0.0) R.col(2) *= -1.0;  // det = +1 (4.111)
   triad->R_model_triad = R;
   Eigen::Matrix<double, 3, 4> vertices;  // (4.113)
@@ -50,8 +50,8 @@ Estimate SimplexLinear(const Correspondences& c, ErrorSpace space) {
   const Estimate check = Prepare(c, &triad);
   if (!check.ok) return check;
   const NullSpace ns = DecomposeMeasurementMatrix(MeasurementMatrix(c, triad.maps, space));  // (4.102–4.106)
-  const Vector12d Ps = ns.V.col(0);                                         // (4.107)
-  return ScaleAndAlign(c.model, CameraPoints(triad.maps, Ps));                                   // (4.108)
+  const Vector12d Ps = ns.V.col(0);                                                          // (4.107)
+  return ScaleAndAlign(c.model, CameraPoints(triad.maps, Ps));                               // (4.108)
 }
 
 Estimate SimplexGaussNewton(const Correspondences& c, ErrorSpace space, const pose_math::Pose& initial,

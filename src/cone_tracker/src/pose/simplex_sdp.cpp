@@ -16,9 +16,15 @@ Estimate SimplexSdp(const Correspondences& c, ErrorSpace space, int eigenvectors
   const Matrix12d V = DecomposeMeasurementMatrix(MeasurementMatrix(c, triad.maps, space)).V;
   std::vector<QuadraticConstraint> constraints;
   switch (constraint) {
-    case PnpOptions::SdpConstraint::kDistance: constraints = DistanceConstraints(V, eigenvectors, triad.vertices); break;
-    case PnpOptions::SdpConstraint::kDotProduct: constraints = DotProductConstraints(V, eigenvectors, triad.vertices); break;
-    case PnpOptions::SdpConstraint::kOrthogonalTriad: constraints = TriadConstraints(V, eigenvectors); break;
+    case PnpOptions::SdpConstraint::kDistance:
+      constraints = DistanceConstraints(V, eigenvectors, triad.vertices);
+      break;
+    case PnpOptions::SdpConstraint::kDotProduct:
+      constraints = DotProductConstraints(V, eigenvectors, triad.vertices);
+      break;
+    case PnpOptions::SdpConstraint::kOrthogonalTriad:
+      constraints = TriadConstraints(V, eigenvectors);
+      break;
   }
   Eigen::Vector4d beta;
   std::string error;

@@ -106,19 +106,28 @@ Estimate Run(const Correspondences& c, const PnpOptions& o, const std::optional<
     return e;
   };
   switch (o.method) {
-    case PnpMethod::kP3p: return P3pFischlerBolles(c);
-    case PnpMethod::kDlt: return Dlt(c);
+    case PnpMethod::kP3p:
+      return P3pFischlerBolles(c);
+    case PnpMethod::kDlt:
+      return Dlt(c);
     case PnpMethod::kOia: {
       const pose_math::Pose* init = initial ? &*initial : nullptr;
       return OrthogonalIteration(c, init, std::max(o.max_iterations, 200), 1e-12);
     }
-    case PnpMethod::kMdltIs: return refine_null_space(MdltLinear, MdltGaussNewton, ErrorSpace::kImage);
-    case PnpMethod::kMdltOs: return refine_null_space(MdltLinear, MdltGaussNewton, ErrorSpace::kObject);
-    case PnpMethod::kSimplexIs: return refine_null_space(SimplexLinear, SimplexGaussNewton, ErrorSpace::kImage);
-    case PnpMethod::kSimplexOs: return refine_null_space(SimplexLinear, SimplexGaussNewton, ErrorSpace::kObject);
-    case PnpMethod::kEpnp: return EpnpLinear(c);
-    case PnpMethod::kEpnpGn: return EpnpGaussNewton(c);
-    case PnpMethod::kSimplexSdp: return SimplexSdp(c, ErrorSpace::kImage, o.sdp_eigenvectors, o.sdp_constraint);
+    case PnpMethod::kMdltIs:
+      return refine_null_space(MdltLinear, MdltGaussNewton, ErrorSpace::kImage);
+    case PnpMethod::kMdltOs:
+      return refine_null_space(MdltLinear, MdltGaussNewton, ErrorSpace::kObject);
+    case PnpMethod::kSimplexIs:
+      return refine_null_space(SimplexLinear, SimplexGaussNewton, ErrorSpace::kImage);
+    case PnpMethod::kSimplexOs:
+      return refine_null_space(SimplexLinear, SimplexGaussNewton, ErrorSpace::kObject);
+    case PnpMethod::kEpnp:
+      return EpnpLinear(c);
+    case PnpMethod::kEpnpGn:
+      return EpnpGaussNewton(c);
+    case PnpMethod::kSimplexSdp:
+      return SimplexSdp(c, ErrorSpace::kImage, o.sdp_eigenvectors, o.sdp_constraint);
     case PnpMethod::kCeres: {
       const Estimate start = initial ? Estimate{true, "", *initial, 0, true, 0.0} : LinearStart(c, planar);
       if (!start.ok) return start;
@@ -126,7 +135,8 @@ Estimate Run(const Correspondences& c, const PnpOptions& o, const std::optional<
       e.iterations += start.iterations;
       return e;
     }
-    case PnpMethod::kBest: return Best(c, o, initial, planar);
+    case PnpMethod::kBest:
+      return Best(c, o, initial, planar);
   }
   return Failure("unknown method");
 }
@@ -154,8 +164,8 @@ PnpResult SolvePnp(const CameraModel& camera, const std::vector<Eigen::Vector3d>
                    const std::vector<Eigen::Vector2d>& image_points_px, const PnpOptions& options,
                    const std::optional<pose_math::Pose>& initial_T_camera_model) {
   const MethodInfo& info = Info(options.method);
-  if (!(camera.fx_px > 0.0) || !(camera.fy_px > 0.0) || !std::isfinite(camera.fx_px) ||
-      !std::isfinite(camera.fy_px) || !std::isfinite(camera.cx_px) || !std::isfinite(camera.cy_px))
+  if (!(camera.fx_px > 0.0) || !(camera.fy_px > 0.0) || !std::isfinite(camera.fx_px) || !std::isfinite(camera.fy_px) ||
+      !std::isfinite(camera.cx_px) || !std::isfinite(camera.cy_px))
     return Error("camera: fx, fy must be finite and > 0 and cx, cy finite");
   for (const double k : camera.distortion)
     if (!std::isfinite(k)) return Error("camera: non-finite distortion coefficient");
@@ -189,7 +199,8 @@ PnpResult SolvePnp(const CameraModel& camera, const std::vector<Eigen::Vector3d>
   if (!NormalizeImagePoints(camera, image_points_px, &c.normalized)) return Error("undistortion failed");
   if (initial_T_camera_model) {
     if (!Finite(*initial_T_camera_model)) return Error("initial pose is not finite");
-    if (MinDepth(c.model, *initial_T_camera_model) <= 0.0) return Error("initial pose puts model points behind the camera");
+    if (MinDepth(c.model, *initial_T_camera_model) <= 0.0)
+      return Error("initial pose puts model points behind the camera");
   }
 
   Estimate e;
@@ -200,7 +211,8 @@ PnpResult SolvePnp(const CameraModel& camera, const std::vector<Eigen::Vector3d>
   }
   if (!e.ok) return Error(e.error);
   if (!Finite(e.T_camera_model)) return Error(std::string(info.name) + ": non-finite pose");
-  if (MinDepth(c.model, e.T_camera_model) <= 0.0) return Error(std::string(info.name) + ": solution puts model points behind the camera");
+  if (MinDepth(c.model, e.T_camera_model) <= 0.0)
+    return Error(std::string(info.name) + ": solution puts model points behind the camera");
 
   PnpResult r;
   r.ok = true;

@@ -54,7 +54,7 @@ pose_math::Pose AbsoluteOrientationQuat(const Eigen::Matrix3Xd& model, const Eig
 
 // --- classic algorithms ---
 Estimate P3pFischlerBolles(const Correspondences& c);  // p3p.cpp, n ≥ 4
-Estimate Dlt(const Correspondences& c);                 // dlt.cpp, n ≥ 6, non-planar
+Estimate Dlt(const Correspondences& c);                // dlt.cpp, n ≥ 6, non-planar
 // Lu–Hager (oia.cpp). Without an initial pose it starts from the weak-perspective
 // guess of the original paper (all depths equal).
 Estimate OrthogonalIteration(const Correspondences& c, const pose_math::Pose* initial, int max_iterations = 200,
@@ -72,8 +72,7 @@ Estimate SimplexGaussNewton(const Correspondences& c, ErrorSpace space, const po
 Estimate EpnpLinear(const Correspondences& c);
 Estimate EpnpGaussNewton(const Correspondences& c);
 // 3-simplex SDP (simplex_sdp.cpp).
-Estimate SimplexSdp(const Correspondences& c, ErrorSpace space, int eigenvectors,
-                    PnpOptions::SdpConstraint constraint);
+Estimate SimplexSdp(const Correspondences& c, ErrorSpace space, int eigenvectors, PnpOptions::SdpConstraint constraint);
 
 // --- refinement (ceres_refine.cpp) ---
 Estimate CeresRefine(const Correspondences& c, const pose_math::Pose& initial, bool robust_loss,

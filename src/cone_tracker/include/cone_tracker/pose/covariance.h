@@ -18,7 +18,8 @@ using Matrix6d = Eigen::Matrix<double, 6, 6>;
 // B_i w.r.t. the normalised image noise for object space).
 Eigen::Vector2d ImageResidual(const pose_math::Pose& T, const Eigen::Vector3d& model, const Eigen::Vector2d& normalized,
                               double fx_px, double fy_px);
-Eigen::Vector3d ObjectResidual(const pose_math::Pose& T, const Eigen::Vector3d& model, const Eigen::Vector2d& normalized);
+Eigen::Vector3d ObjectResidual(const pose_math::Pose& T, const Eigen::Vector3d& model,
+                               const Eigen::Vector2d& normalized);
 Eigen::Matrix<double, 2, 7> ImageJacobianQuat(const pose_math::Pose& T, const Eigen::Vector3d& model, double fx_px,
                                               double fy_px);  // (5.59)
 void ObjectJacobiansQuat(const pose_math::Pose& T, const Eigen::Vector3d& model, const Eigen::Vector2d& normalized,

@@ -30,18 +30,18 @@ struct CameraModel {
 };
 
 enum class PnpMethod {
-  kP3p,        // Fischler–Bolles (4.7–4.15), extra points pick the root
-  kDlt,        // Abdel-Aziz & Karara (4.18–4.35)
-  kOia,        // Lu–Hager orthogonal iteration (4.44–4.49)
-  kMdltIs,     // MDLT linear + Gauss–Newton, image space (4.50–4.87)
-  kMdltOs,     // the same in object space
-  kSimplexIs,  // 3-simplex linear + Gauss–Newton, image space (4.88–4.120)
-  kSimplexOs,  // the same in object space
-  kEpnp,       // EPnP, linear (Moreno-Noguer et al. 2007)
-  kEpnpGn,     // EPnP with Gauss–Newton on the betas
-  kSimplexSdp, // 3-simplex SDP with CSDP (4.121–4.153)
-  kCeres,      // Ceres image-space refinement on the quaternion manifold
-  kBest,       // linear initialisation + refinement: what the tracker uses
+  kP3p,         // Fischler–Bolles (4.7–4.15), extra points pick the root
+  kDlt,         // Abdel-Aziz & Karara (4.18–4.35)
+  kOia,         // Lu–Hager orthogonal iteration (4.44–4.49)
+  kMdltIs,      // MDLT linear + Gauss–Newton, image space (4.50–4.87)
+  kMdltOs,      // the same in object space
+  kSimplexIs,   // 3-simplex linear + Gauss–Newton, image space (4.88–4.120)
+  kSimplexOs,   // the same in object space
+  kEpnp,        // EPnP, linear (Moreno-Noguer et al. 2007)
+  kEpnpGn,      // EPnP with Gauss–Newton on the betas
+  kSimplexSdp,  // 3-simplex SDP with CSDP (4.121–4.153)
+  kCeres,       // Ceres image-space refinement on the quaternion manifold
+  kBest,        // linear initialisation + refinement: what the tracker uses
 };
 
 // Method names as used by pnp_solve ("p3p", "dlt", ..., "best").
@@ -70,8 +70,8 @@ struct PnpOptions {
 
 struct PnpResult {
   bool ok = false;
-  std::string error;                 // set when !ok
-  pose_math::Pose T_camera_model;    // p_c = R p_m + t
+  std::string error;                          // set when !ok
+  pose_math::Pose T_camera_model;             // p_c = R p_m + t
   std::vector<Eigen::Vector2d> residuals_px;  // projected − observed (undistorted), per point
   double reproj_rms_px = 0.0;
   int iterations = 0;
