@@ -1,7 +1,7 @@
 // 3-simplex + Gauss–Newton (4.88–4.120): the camera coordinates of the four
 // vertices of a unit orthogonal triad {S} on the model's principal axes span
 // the null space; Gauss–Newton moves the rigid triad.
-#include <Eigen/SVD>
+#include <Eigen/Eigenvalues>
 
 #include "null_space.h"
 
@@ -9,8 +9,12 @@ namespace cone_tracker {
 
 bool MakeTriad(const Eigen::Matrix3Xd& model, Triad* triad) {
   triad->centroid = model.rowwise().mean();  // (4.109)
-  const Eigen::JacobiSVD<Eigen::Matrix3Xd> svd(model.colwise() - triad->centroid, Eigen::ComputeFullU);
-  Eigen::Matrix3d R = svd.matrixU();            // principal directions (4.110)
+  // Principal directions (4.110): U of the SVD of the centred points, taken as
+  // the eigenvectors of their 3×3 scatter matrix, largest first.
+  const Eigen::Matrix3Xd centred = model.colwise() - triad->centroid;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(centred * centred.transpose());
+  Eigen::Matrix3d R = eig.eigenvectors().rowwise().reverse();
   if (R.determinant() < 0.0) R.col(2) *= -1.0;  // det = +1 (4.111)
   triad->R_model_triad = R;
   Eigen::Matrix<double, 3, 4> vertices;  // (4.113)
