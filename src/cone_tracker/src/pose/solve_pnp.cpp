@@ -80,7 +80,8 @@ Estimate Best(const Correspondences& c, const PnpOptions& o, const std::optional
                                                              : std::numeric_limits<double>::infinity();
   };
   double best_cost = cost_of(best);
-  const double gate = std::pow(o.best_restart_rms_factor * o.sigma_px, 2);
+  // ImageSpaceCost is the mean squared 2-D error per point: 2σ² per unit of RMS per coordinate.
+  const double gate = 2.0 * std::pow(o.best_restart_rms_factor * o.sigma_px, 2);
   if (best_cost <= gate) return best;
   std::vector<Estimate> starts;
   if (start.ok) starts.push_back(OrthogonalIteration(c, &start.T_camera_model, 200, 1e-10));

@@ -61,8 +61,8 @@ struct PnpOptions {
   double huber_threshold_px = 2.0;
   int max_iterations = 100;
   // best: restart from other starts when the refined RMS reprojection error
-  // exceeds this multiple of sigma_px. At the global minimum the RMS is about
-  // σ sqrt(1 − 3/n), so 1.1 restarts only a few percent of frames whose noise
+  // per image coordinate exceeds this multiple of sigma_px. At the global
+  // minimum it is about σ sqrt(1 − 3/n), so 1.1 restarts only a few percent of frames whose noise
   // matches sigma_px (about 4% with 9 points) and catches most local minima.
   double best_restart_rms_factor = 1.1;
   // Simplex SDP: number of eigenvectors (2, 3 or 4) and constraint kind.
