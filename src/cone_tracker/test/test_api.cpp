@@ -118,6 +118,10 @@ TEST_F(Degenerate, NanAndInfInput) {
   camera = k_.camera;
   camera.distortion = {0.1, std::numeric_limits<double>::quiet_NaN(), 0, 0};
   EXPECT_FALSE(SolvePnp(camera, k_.model, k_.image, PnpOptions()).ok);
+  camera.distortion = {0.1, 0.01, 0.0};  // not a length OpenCV accepts
+  const PnpResult r = SolvePnp(camera, k_.model, k_.image, PnpOptions());
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("distortion"), std::string::npos) << r.error;
 }
 
 TEST_F(Degenerate, PlanarPointsRejectedOnlyWhereTheMethodNeedsDepth) {

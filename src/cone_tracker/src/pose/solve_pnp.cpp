@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 #include "cone_tracker/pose/algorithms.h"
 #include "cone_tracker/pose/covariance.h"
@@ -170,6 +171,9 @@ PnpResult SolvePnp(const CameraModel& camera, const std::vector<Eigen::Vector3d>
     return Error("camera: fx, fy must be finite and > 0 and cx, cy finite");
   for (const double k : camera.distortion)
     if (!std::isfinite(k)) return Error("camera: non-finite distortion coefficient");
+  const size_t nd = camera.distortion.size();
+  if (nd != 0 && nd != 4 && nd != 5 && nd != 8 && nd != 12 && nd != 14)
+    return Error("camera: distortion needs 4, 5, 8, 12 or 14 coefficients (OpenCV's model), got " + std::to_string(nd));
   if (model_points.size() != image_points_px.size()) {
     std::ostringstream s;
     s << model_points.size() << " model points but " << image_points_px.size() << " image points";
@@ -197,7 +201,11 @@ PnpResult SolvePnp(const CameraModel& camera, const std::vector<Eigen::Vector3d>
   if (!(spread(0) > 0.0) || spread(1) <= 1e-6 * spread(0)) return Error("model points are collinear (or coincide)");
   const bool planar = spread(2) <= 1e-6 * spread(0);
   if (planar && info.needs_depth_spread) return Error(std::string(info.name) + " needs non-planar model points");
-  if (!NormalizeImagePoints(camera, image_points_px, &c.normalized)) return Error("undistortion failed");
+  try {
+    if (!NormalizeImagePoints(camera, image_points_px, &c.normalized)) return Error("undistortion failed");
+  } catch (const std::exception& ex) {
+    return Error(std::string("undistortion failed: ") + ex.what());
+  }
   if (initial_T_camera_model) {
     if (!Finite(*initial_T_camera_model)) return Error("initial pose is not finite");
     if (MinDepth(c.model, *initial_T_camera_model) <= 0.0)
