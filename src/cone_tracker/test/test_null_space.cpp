@@ -113,6 +113,27 @@ TEST(Ceres, RefinementRecoversExactPose) {
   }
 }
 
+TEST(Ceres, TinySolverChartJacobianMatchesNumericAtTheOrigin) {
+  // At δθ = 0 (where every Levenberg–Marquardt step is linearised from the
+  // start) the chart's analytic Jacobian is exact.
+  std::mt19937 rng(20);
+  const sim::Case k = sim::RandomCloud(rng, 8);
+  const Correspondences c = ToCorrespondences(k, sim::AddNoise(rng, k.image, 1.0));
+  Eigen::Matrix<double, 6, 1> x;
+  x << 0, 0, 0, k.T_camera_model.t;
+  Eigen::VectorXd r, rp, rm;
+  Eigen::MatrixXd J, unused;
+  ChartResidualsAndJacobian(c, k.T_camera_model, x, &r, &J);
+  const double h = 1e-7;
+  for (int p = 0; p < 6; ++p) {
+    Eigen::Matrix<double, 6, 1> d = Eigen::Matrix<double, 6, 1>::Zero();
+    d(p) = h;
+    ChartResidualsAndJacobian(c, k.T_camera_model, x + d, &rp, &unused);
+    ChartResidualsAndJacobian(c, k.T_camera_model, x - d, &rm, &unused);
+    EXPECT_LT(((rp - rm) / (2 * h) - J.col(p)).norm(), 1e-5 * (1.0 + J.col(p).norm())) << "parameter " << p;
+  }
+}
+
 TEST(Ceres, RobustLossResistsAnOutlier) {
   std::mt19937 rng(19);
   const sim::Case k = sim::RandomCloud(rng, 12);

@@ -70,15 +70,29 @@ struct ChartReprojection {
   double fx, fy;
 };
 
-}  // namespace
-
-Estimate TinyCeresRefine(const Correspondences& c, const pose_math::Pose& initial, int max_iterations) {
-  if (c.size() < 4) return Failure("refinement needs at least 4 points");
+ChartReprojection MakeChart(const Correspondences& c, const pose_math::Pose& origin) {
   ChartReprojection f;
-  f.rotated = RotationOf(initial) * c.model;
+  f.rotated = RotationOf(origin) * c.model;
   f.normalized = c.normalized;
   f.fx = c.fx_px;
   f.fy = c.fy_px;
+  return f;
+}
+
+}  // namespace
+
+void ChartResidualsAndJacobian(const Correspondences& c, const pose_math::Pose& origin,
+                               const Eigen::Matrix<double, 6, 1>& x, Eigen::VectorXd* residuals,
+                               Eigen::MatrixXd* jacobian) {
+  const ChartReprojection f = MakeChart(c, origin);
+  residuals->resize(f.NumResiduals());
+  jacobian->resize(f.NumResiduals(), 6);  // column-major, as TinySolver fills it
+  f(x.data(), residuals->data(), jacobian->data());
+}
+
+Estimate TinyCeresRefine(const Correspondences& c, const pose_math::Pose& initial, int max_iterations) {
+  if (c.size() < 4) return Failure("refinement needs at least 4 points");
+  const ChartReprojection f = MakeChart(c, initial);
   ceres::TinySolver<ChartReprojection> solver;
   solver.options.max_num_iterations = max_iterations;
   solver.options.gradient_tolerance = 1e-14;

@@ -81,5 +81,9 @@ Estimate CeresRefine(const Correspondences& c, const pose_math::Pose& initial, b
 // no Problem set-up) in a rotation-vector chart around the start: the fast
 // refinement of "best". No robust loss.
 Estimate TinyCeresRefine(const Correspondences& c, const pose_math::Pose& initial, int max_iterations = 50);
+// Its residuals (pixels) and Jacobian at x = (δθ, t) around `origin`, for tests.
+void ChartResidualsAndJacobian(const Correspondences& c, const pose_math::Pose& origin,
+                               const Eigen::Matrix<double, 6, 1>& x, Eigen::VectorXd* residuals,
+                               Eigen::MatrixXd* jacobian);
 
 }  // namespace cone_tracker
