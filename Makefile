@@ -63,3 +63,12 @@ bags: build
 
 sample_bags: build
 	@$(ENV) && bash $(ROOT)/src/rig_sim/scripts/make_sample_bags.sh $(ROOT)/rosbags
+
+# ---- cone_tracker (issue 4): chapter 7.1 experiments, figures 9.1-9.9, the cone
+# layout and the 7.1.3 Monte Carlo tables, written to out/experiments/.
+.PHONY: experiments
+experiments: build
+	@mkdir -p $(ROOT)/out/experiments
+	@$(ENV) && $(WS)/devel/lib/cone_tracker/cone_tracker_experiments --out $(ROOT)/out/experiments \
+	  | tee $(ROOT)/out/experiments/report.txt
+	@/usr/bin/python3 $(ROOT)/src/cone_tracker/scripts/plot_experiments.py $(ROOT)/out/experiments

@@ -18,7 +18,7 @@ PACKAGES=(
   libsensor-msgs-dev libgeometry-msgs-dev libnav-msgs-dev libvisualization-msgs-dev libstd-srvs-dev
   librviz-dev rviz
   # maths and vision
-  libeigen3-dev libceres-dev libopencv-dev libsdp-dev
+  libeigen3-dev libceres-dev libopencv-dev libsdp-dev nlohmann-json3-dev
   # GigE camera (Aravis 0.8; its pkg-config needs libusb)
   libaravis-dev libusb-1.0-0-dev aravis-tools
   # rendering: models, headless OpenGL, a display for rviz
