@@ -204,7 +204,7 @@ TEST(MeasurementBuffer, OutageWithImuSwitchedOffFreezesThePose) {
                                             pose_math::TranslationError(frozen, b.filter().Pose().pose));
     }
   }
-  EXPECT_LT(max_change, 1e-12);  // frozen; what remains is the rounding of the error metric
+  EXPECT_LT(max_change, 1e-12);                  // frozen; what remains is the rounding of the error metric
   EXPECT_GT(b.counters().camera_applied, 140u);  // and it resumes with the cones in view
   EXPECT_GT(b.filter().state().stamp_s, 6.9);
 }

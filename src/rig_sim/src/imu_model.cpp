@@ -1,5 +1,7 @@
 #include "rig_sim/imu_model.h"
 
+#include "imu_driver/crista_protocol.h"
+
 #include <cmath>
 #include <sstream>
 
@@ -99,10 +101,11 @@ ImuSample ImuSimulator::Next() {
   }
   if (config_.quantize) {
     for (int i = 0; i < 3; ++i) {
-      s.gyro_raw[i] = Quantize(omega[i] / kDeg, kCristaGyroDegPerCount, config_.gyro_range_deg_s, &s.saturated);
-      s.accel_raw[i] = Quantize(accel[i], kCristaAccelMs2PerCount, config_.accel_range_m_s2, &s.saturated);
-      omega[i] = s.gyro_raw[i] * kCristaGyroDegPerCount * kDeg;
-      accel[i] = s.accel_raw[i] * kCristaAccelMs2PerCount;
+      s.gyro_raw[i] =
+          Quantize(omega[i] / kDeg, imu_driver::kGyroDegPerSecPerCount, config_.gyro_range_deg_s, &s.saturated);
+      s.accel_raw[i] = Quantize(accel[i], imu_driver::kAccelMPerS2PerCount, config_.accel_range_m_s2, &s.saturated);
+      omega[i] = s.gyro_raw[i] * imu_driver::kGyroDegPerSecPerCount * kDeg;
+      accel[i] = s.accel_raw[i] * imu_driver::kAccelMPerS2PerCount;
     }
   }
   s.omega_imu_rad_s = omega;

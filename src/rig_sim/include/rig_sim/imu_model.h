@@ -46,9 +46,6 @@ struct ImuConfig {
   std::string Validate() const;
 };
 
-constexpr double kCristaGyroDegPerCount = 600.0 / 65536.0;
-constexpr double kCristaAccelMs2PerCount = 196.1 / 65536.0;
-
 struct ImuSample {
   double stamp_s = 0.0;
   Eigen::Vector3d omega_imu_rad_s = Eigen::Vector3d::Zero();

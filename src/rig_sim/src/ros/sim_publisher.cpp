@@ -1,5 +1,7 @@
 #include "rig_sim/ros/sim_publisher.h"
 
+#include "rig_sim/crista_link.h"
+
 #include <rosgraph_msgs/Clock.h>
 
 namespace rig_sim {
@@ -54,9 +56,14 @@ SimPublisher::SimPublisher(ros::NodeHandle nh, ros::NodeHandle pnh, const SimPub
   markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>(topics_.markers, 1, true);
   if (config.publish_clock) clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
   if (config.serial_pty) {
-    pty_.reset(new CristaPty());
-    if (!config.serial_link.empty() && !pty_->Link(config.serial_link, &err)) ROS_WARN("rig_sim: %s", err.c_str());
-    ROS_INFO("rig_sim: Crista byte stream on %s (link %s)", pty_->slave_path().c_str(), config.serial_link.c_str());
+    try {
+      pty_ = std::make_unique<imu_driver::PseudoTerminal>(config.serial_link);
+      pty_->Plug();
+      ROS_INFO("rig_sim: Crista byte stream on %s (link %s)", pty_->slave_name().c_str(), config.serial_link.c_str());
+    } catch (const std::exception& e) {
+      ROS_WARN("rig_sim: no Crista pseudo-terminal: %s", e.what());
+      pty_.reset();
+    }
   }
   diagnostics_.setHardwareID("rig_sim/" + config.scenario);
   diagnostics_.add("simulated rig", this, &SimPublisher::Diagnose);
@@ -86,7 +93,7 @@ void SimPublisher::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("images published", images_);
   stat.add("imu samples published", imu_);
   stat.add("events more than 20 ms late", late_events_);
-  stat.add("serial packets dropped (no reader)", pty_ ? pty_->dropped() : 0);
+  stat.add("serial packets dropped (no reader)", pty_dropped_);
 }
 
 void SimPublisher::Publish(const SimEvent& ev) {
@@ -96,10 +103,8 @@ void SimPublisher::Publish(const SimEvent& ev) {
       imu_pub_.publish(MakeImu(ev.imu, scenario_.imu, stamp, frames_names_.imu));
       bias_pub_.publish(MakeImuBias(ev.imu, stamp, frames_names_.imu));
       if (pty_) {
-        const double t = stamp.toSec();
-        const uint32_t since_pps_us = static_cast<uint32_t>((stamp.nsec) / 1000);
-        pty_->Write(EncodeCristaHighSpeed(ev.imu, since_pps_us, static_cast<uint8_t>(static_cast<uint64_t>(t) & 0xFF),
-                                          static_cast<uint8_t>(ev.index & 0xFF)));
+        const std::vector<uint8_t> packet = EncodeCristaPacket(ev.imu, static_cast<uint8_t>(ev.index & 0xFF));
+        if (!pty_->WriteIfRoom(packet.data(), packet.size())) ++pty_dropped_;
       }
       ++imu_;
       break;

@@ -10,7 +10,7 @@
 #include <image_transport/image_transport.h>
 #include <ros/ros.h>
 
-#include "rig_sim/crista.h"
+#include "imu_driver/pseudo_terminal.h"
 #include "rig_sim/ros/frame_pipeline.h"
 #include "rig_sim/ros/messages.h"
 
@@ -55,7 +55,8 @@ class SimPublisher {
   diagnostic_updater::Updater diagnostics_;
   std::unique_ptr<SimStream> stream_;
   std::unique_ptr<FramePipeline> frames_;
-  std::unique_ptr<CristaPty> pty_;
+  std::unique_ptr<imu_driver::PseudoTerminal> pty_;
+  uint64_t pty_dropped_ = 0;  // packets not written: nobody reading and the pty buffer full
   TopicNames topics_;
   FrameNames frames_names_;
   double pass_start_s_ = 0.0;  // sim time of this pass's t = 0
