@@ -11,7 +11,11 @@
 #include <random>
 #include <vector>
 
+#include <boost/make_shared.hpp>
+
+#include "imu_driver/calibration_session.h"
 #include "imu_driver/crista_parser.h"
+#include "imu_driver/ros_adapter.h"
 #include "imu_driver/serial_reader.h"
 #include "jitter_sim.h"
 #include "packet_gen.h"
@@ -137,12 +141,17 @@ void BenchLatency() {
   imu.Plug();
   std::mutex m;
   std::vector<Clock::time_point> received;
+  const DriverConfig driver_config;
+  const GyroCalibration gyro;
   SerialReaderConfig config;
   config.port = link;
   config.read_timeout_ms = 100;
   SerialReader reader(
       config, [] { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); },
-      [&](const ImuSample&) {
+      [&](const ImuSample& s) {
+        // What the nodelet does before publish(): the REP-145 message.
+        auto msg = boost::make_shared<sensor_msgs::Imu>();
+        FillImuMessage(s, driver_config, gyro, msg.get());
         std::lock_guard<std::mutex> l(m);
         received.push_back(Clock::now());
       },
@@ -173,7 +182,9 @@ void BenchLatency() {
   ::rmdir(tmpl);
   if (latency_us.empty()) return;
   std::sort(latency_us.begin(), latency_us.end());
-  std::printf("latency: last byte written to the pty master -> sample callback, %zu frames\n", latency_us.size());
+  std::printf(
+      "latency: last byte written to the pty master -> sensor_msgs/Imu built and ready for publish(), %zu frames\n",
+      latency_us.size());
   std::printf("BENCH imu_driver.added_latency_median %.1f us\n", latency_us[latency_us.size() / 2]);
   std::printf("BENCH imu_driver.added_latency_p99 %.1f us\n", latency_us[latency_us.size() * 99 / 100]);
 }
