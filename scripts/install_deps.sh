@@ -22,7 +22,7 @@ PACKAGES=(
   # GigE camera (Aravis 0.8; its pkg-config needs libusb)
   libaravis-dev libusb-1.0-0-dev aravis-tools
   # rendering: models, headless OpenGL, a display for rviz
-  libassimp-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libgles-dev xvfb
+  libassimp-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libgles-dev xvfb libyaml-cpp-dev
   # reports
   python3-numpy python3-matplotlib python3-yaml
 )
