@@ -46,3 +46,10 @@ format:
 
 clean:
 	rm -rf $(WS)/build $(WS)/devel $(WS)/run_tests.log $(ROOT)/src/CMakeLists.txt $(ROOT)/out
+
+# ar_overlay: rviz with src/ar_overlay/rviz/overlay.rviz under Xvfb, on stand-in data
+# (rviz_demo.launch), screenshot to out/rviz_overlay.png.
+.PHONY: rviz-screenshot
+rviz-screenshot: build
+	@mkdir -p $(ROOT)/out
+	@$(ENV) && bash $(ROOT)/src/ar_overlay/scripts/rviz_screenshot.sh $(ROOT)/out/rviz_overlay.png 25

@@ -16,7 +16,7 @@ PACKAGES=(
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   libdiagnostic-updater-dev
   libsensor-msgs-dev libgeometry-msgs-dev libnav-msgs-dev libvisualization-msgs-dev libstd-srvs-dev
-  librviz-dev rviz
+  librviz-dev rviz python3-visualization-msgs
   # maths and vision
   libeigen3-dev libceres-dev libopencv-dev libsdp-dev
   # GigE camera (Aravis 0.8; its pkg-config needs libusb)

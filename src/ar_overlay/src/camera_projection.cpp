@@ -63,6 +63,8 @@ DistortionMap::DistortionMap(const CameraIntrinsics& k) {
   canvas_cx_ = k.cx_px;
   canvas_cy_ = k.cy_px;
   identity_ = !k.HasDistortion();
+  K_ = cv::Matx33d(k.fx_px, 0, k.cx_px, 0, k.fy_px, k.cy_px, 0, 0, 1);
+  distortion_ = k.distortion;
   if (identity_) return;
 
   const cv::Matx33d K(k.fx_px, 0, k.cx_px, 0, k.fy_px, k.cy_px, 0, 0, 1);
@@ -99,6 +101,42 @@ DistortionMap::DistortionMap(const CameraIntrinsics& k) {
     }
   }
   cv::convertMaps(map, cv::noArray(), map1_, map2_, CV_16SC2);  // fixed point: remap is about twice as fast
+}
+
+cv::Rect DistortionMap::RawRoi(const cv::Rect& canvas_roi) const {
+  const cv::Rect image(0, 0, identity_ ? canvas_width_ : static_cast<int>(map1_.cols),
+                       identity_ ? canvas_height_ : static_cast<int>(map1_.rows));
+  if (identity_ || canvas_roi.empty()) return canvas_roi & image;
+  // The map is continuous and one-to-one, so the image of the box's boundary
+  // bounds the image of the box: distort samples along the boundary.
+  const double ox = canvas_cx_ - K_(0, 2), oy = canvas_cy_ - K_(1, 2);
+  std::vector<cv::Point3d> rays;
+  const int n = 24;
+  for (int i = 0; i <= n; ++i) {
+    const double a = canvas_roi.x + canvas_roi.width * static_cast<double>(i) / n;
+    const double b = canvas_roi.y + canvas_roi.height * static_cast<double>(i) / n;
+    for (const cv::Point2d& c : {cv::Point2d(a, canvas_roi.y), cv::Point2d(a, canvas_roi.br().y),
+                                 cv::Point2d(canvas_roi.x, b), cv::Point2d(canvas_roi.br().x, b)})
+      rays.emplace_back((c.x - ox - K_(0, 2)) / K_(0, 0), (c.y - oy - K_(1, 2)) / K_(1, 1), 1.0);
+  }
+  std::vector<cv::Point2d> raw;
+  cv::projectPoints(rays, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), K_, distortion_, raw);
+  double x0 = raw[0].x, x1 = x0, y0 = raw[0].y, y1 = y0;
+  for (const auto& p : raw) x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+  const double big = 4.0 * (image.width + image.height);  // keeps the int conversion sane
+  x0 = std::max(x0, -big), y0 = std::max(y0, -big), x1 = std::min(x1, big), y1 = std::min(y1, big);
+  const cv::Rect r(static_cast<int>(std::floor(x0)) - 2, static_cast<int>(std::floor(y0)) - 2,
+                   static_cast<int>(std::ceil(x1 - x0)) + 5, static_cast<int>(std::ceil(y1 - y0)) + 5);
+  return r & image;
+}
+
+void DistortionMap::ApplyRoi(const cv::Mat& canvas, const cv::Rect& raw_roi, cv::Mat& raw) const {
+  if (identity_) {
+    canvas(raw_roi).copyTo(raw(raw_roi));
+    return;
+  }
+  cv::Mat out = raw(raw_roi);
+  cv::remap(canvas, out, map1_(raw_roi), map2_(raw_roi), cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar::all(0));
 }
 
 void DistortionMap::Apply(const cv::Mat& canvas, cv::Mat& raw) const {

@@ -58,8 +58,10 @@ void Overlay::Process(const cv::Mat& image, const std::string& encoding, const C
     if (specs_[i].has_color) d.color_override << specs_[i].color, 1.0f;
     items.push_back(d);
   }
-  renderer_.Render(items, T_camera_cones, overlay_rgba_);
-  CompositeInPlace(overlay_rgba_, out_encoding, out);
+  const cv::Rect roi = renderer_.Render(items, T_camera_cones, overlay_rgba_);
+  if (roi.empty()) return;
+  cv::Mat out_roi = out(roi);
+  CompositeInPlace(overlay_rgba_(roi), out_encoding, out_roi);
 }
 
 }  // namespace ar_overlay

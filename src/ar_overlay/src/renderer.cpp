@@ -76,6 +76,7 @@ struct Renderer::Gl {
   struct GpuMesh {
     GLuint vao = 0, vbo = 0, ibo = 0;
     GLsizei index_count = 0;
+    Eigen::AlignedBox3f bounds;  // in the model's frame
   };
   std::vector<GpuMesh> meshes;
 };
@@ -133,6 +134,7 @@ int Renderer::AddMesh(const Mesh& mesh) {
   glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, color)));
   glBindVertexArray(0);
   m.index_count = static_cast<GLsizei>(mesh.indices.size());
+  for (const Vertex& v : mesh.vertices) m.bounds.extend(Eigen::Vector3f(v.position[0], v.position[1], v.position[2]));
   gl_->meshes.push_back(m);
   return static_cast<int>(gl_->meshes.size()) - 1;
 }
@@ -160,14 +162,49 @@ void Renderer::SetCamera(const CameraIntrinsics& k) {
   canvas_.create(map_->canvas_height(), map_->canvas_width(), CV_8UC4);
 }
 
-void Renderer::Render(const std::vector<DrawItem>& items, const Eigen::Isometry3d& T_camera_cones,
-                      cv::Mat& overlay_rgba) {
+cv::Rect Renderer::CanvasRoi(const std::vector<DrawItem>& items, const Eigen::Matrix4f& T_camera_cones) const {
+  const cv::Rect canvas(0, 0, map_->canvas_width(), map_->canvas_height());
+  Eigen::AlignedBox2f box;
+  for (const DrawItem& item : items) {
+    if (item.mesh_id < 0 || item.mesh_id >= static_cast<int>(gl_->meshes.size())) continue;
+    const Eigen::AlignedBox3f& b = gl_->meshes[static_cast<size_t>(item.mesh_id)].bounds;
+    if (b.isEmpty()) continue;
+    const Eigen::Matrix4f T = T_camera_cones * item.T_cones_model;
+    Eigen::Vector3f p[8];
+    int behind = 0;
+    for (int corner = 0; corner < 8; ++corner) {
+      p[corner] = (T * b.corner(static_cast<Eigen::AlignedBox3f::CornerType>(corner)).homogeneous()).head<3>();
+      behind += p[corner].z() < static_cast<float>(config_.near_m);
+    }
+    if (behind == 8) continue;        // wholly behind the near plane: invisible
+    if (behind > 0) return canvas;    // straddles it: GL clips, keep everything
+    for (const Eigen::Vector3f& c : p)
+      box.extend(Eigen::Vector2f(static_cast<float>(camera_.fx_px * c.x() / c.z() + map_->canvas_cx()),
+                                 static_cast<float>(camera_.fy_px * c.y() / c.z() + map_->canvas_cy())));
+  }
+  if (box.isEmpty()) return cv::Rect();
+  const float big = 4.0f * static_cast<float>(canvas.width + canvas.height);  // keeps the int conversion sane
+  const Eigen::Vector2f lo = box.min().cwiseMax(-big), hi = box.max().cwiseMin(big);
+  const cv::Rect r(static_cast<int>(std::floor(lo.x())) - 2, static_cast<int>(std::floor(lo.y())) - 2,
+                   static_cast<int>(std::ceil(hi.x() - lo.x())) + 5, static_cast<int>(std::ceil(hi.y() - lo.y())) + 5);
+  return r & canvas;
+}
+
+cv::Rect Renderer::Render(const std::vector<DrawItem>& items, const Eigen::Isometry3d& T_camera_cones,
+                          cv::Mat& overlay_rgba) {
   if (!map_) throw std::logic_error("ar_overlay: Renderer::Render before SetCamera");
   const int W = map_->canvas_width(), H = map_->canvas_height();
   const Eigen::Matrix4f P = ProjectionFromIntrinsics(camera_.fx_px, camera_.fy_px, map_->canvas_cx(),
                                                      map_->canvas_cy(), W, H, config_.near_m, config_.far_m);
+  const Eigen::Matrix4f T_c_m0 = T_camera_cones.matrix().cast<float>();
+  overlay_rgba.create(camera_.height_px, camera_.width_px, CV_8UC4);
+  overlay_rgba.setTo(cv::Scalar::all(0));
+  const cv::Rect roi = CanvasRoi(items, T_c_m0);
+  if (roi.empty()) return cv::Rect();  // nothing in view: nothing to draw
   glBindFramebuffer(GL_FRAMEBUFFER, gl_->framebuffer);
   glViewport(0, 0, W, H);
+  glEnable(GL_SCISSOR_TEST);  // clear and draw only where the models can be
+  glScissor(roi.x, roi.y, roi.width, roi.height);
   glClearColor(0, 0, 0, 0);
   glClearDepthf(1.0f);
   glEnable(GL_DEPTH_TEST);
@@ -177,7 +214,6 @@ void Renderer::Render(const std::vector<DrawItem>& items, const Eigen::Isometry3
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glUseProgram(gl_->program);
   glUniformMatrix4fv(gl_->u_projection, 1, GL_FALSE, P.data());  // Eigen is column-major, as GL
-  const Eigen::Matrix4f T_c_m0 = T_camera_cones.matrix().cast<float>();
   for (const DrawItem& item : items) {
     if (item.mesh_id < 0 || item.mesh_id >= static_cast<int>(gl_->meshes.size())) continue;
     const Eigen::Matrix4f model_view = T_c_m0 * item.T_cones_model;
@@ -191,9 +227,16 @@ void Renderer::Render(const std::vector<DrawItem>& items, const Eigen::Isometry3
     glDrawElements(GL_TRIANGLES, m.index_count, GL_UNSIGNED_INT, nullptr);
   }
   glBindVertexArray(0);
+  glDisable(GL_SCISSOR_TEST);
+  // Read back the region into its place in canvas_ (row 0 = image top, camera_projection.h).
+  canvas_.setTo(cv::Scalar::all(0));
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glReadPixels(0, 0, W, H, GL_RGBA, GL_UNSIGNED_BYTE, canvas_.data);  // row 0 = image top (camera_projection.h)
-  map_->Apply(canvas_, overlay_rgba);
+  glPixelStorei(GL_PACK_ROW_LENGTH, W);
+  glReadPixels(roi.x, roi.y, roi.width, roi.height, GL_RGBA, GL_UNSIGNED_BYTE, canvas_.ptr(roi.y, roi.x));
+  glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+  const cv::Rect raw_roi = map_->RawRoi(roi);
+  if (!raw_roi.empty()) map_->ApplyRoi(canvas_, raw_roi, overlay_rgba);
+  return raw_roi;
 }
 
 }  // namespace ar_overlay

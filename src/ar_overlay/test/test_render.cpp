@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "ar_overlay/mesh_generators.h"
 #include "ar_overlay/overlay.h"
@@ -123,6 +124,29 @@ TEST_F(RenderTest, LambertAndSpecularAsTheShaderSays) {
   tilted.T_cones_model.topLeftCorner<3, 3>() = Eigen::AngleAxisf(1.2f, Eigen::Vector3f::UnitX()).toRotationMatrix();
   renderer.Render({tilted}, Eigen::Isometry3d::Identity(), overlay);
   EXPECT_LT(overlay.at<cv::Vec4b>(120, 160)[0], expected - 40);
+}
+
+TEST_F(RenderTest, RegionCoversTheModelWholeAndIsEmptyWhenNothingIsInView) {
+  const int plate = renderer.AddMesh(Box(0.4f, 0.4f, 0.01f, {1, 1, 1, 1}));
+  renderer.SetCamera(kCamera);
+  DrawItem d;
+  d.mesh_id = plate;
+  d.T_cones_model(0, 3) = 0.9f;  // toward the right edge, where the distortion is strong
+  d.T_cones_model(2, 3) = 2.0f;
+  cv::Mat overlay;
+  const cv::Rect roi = renderer.Render({d}, Eigen::Isometry3d::Identity(), overlay);
+  cv::Mat alpha;
+  cv::extractChannel(overlay, alpha, 3);
+  const cv::Rect drawn = cv::boundingRect(alpha);
+  EXPECT_GT(drawn.area(), 1000);
+  EXPECT_EQ(drawn & roi, drawn);  // every model pixel inside the region
+  EXPECT_LT(roi.area(), 2 * drawn.area() + 2000);
+  d.T_cones_model(2, 3) = -2.0f;  // behind the camera
+  EXPECT_TRUE(renderer.Render({d}, Eigen::Isometry3d::Identity(), overlay).empty());
+  EXPECT_EQ(cv::countNonZero(overlay.reshape(1)), 0);
+  d.T_cones_model(2, 3) = 0.0f;  // straddling the camera: GL clips, the region is everything
+  d.T_cones_model.topLeftCorner<3, 3>() = Eigen::AngleAxisf(1.3f, Eigen::Vector3f::UnitY()).toRotationMatrix();
+  EXPECT_EQ(renderer.Render({d}, Eigen::Isometry3d::Identity(), overlay), cv::Rect(0, 0, 1024, 768));
 }
 
 TEST(OverlayAlpha, HalfTransparentModelBlendsWithTheImage) {

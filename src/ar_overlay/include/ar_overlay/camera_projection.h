@@ -59,12 +59,18 @@ class DistortionMap {
   bool identity() const { return identity_; }
   // The raw-image-sized view of a canvas-sized rendering.
   void Apply(const cv::Mat& canvas, cv::Mat& raw) const;
+  // The raw pixels whose map lands in `canvas_roi` (a bounding box, clipped to
+  // the image), and the remap of those pixels only: raw(raw_roi) from canvas.
+  cv::Rect RawRoi(const cv::Rect& canvas_roi) const;
+  void ApplyRoi(const cv::Mat& canvas, const cv::Rect& raw_roi, cv::Mat& raw) const;
 
  private:
   int canvas_width_ = 0, canvas_height_ = 0;
   double canvas_cx_ = 0, canvas_cy_ = 0;
   bool identity_ = true;
   cv::Mat map1_, map2_;  // fixed-point maps for cv::remap
+  cv::Matx33d K_;
+  std::vector<double> distortion_;
 };
 
 }  // namespace ar_overlay

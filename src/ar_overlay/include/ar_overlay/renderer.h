@@ -39,9 +39,11 @@ class Renderer {
   // Rebuilds the framebuffer and distortion map when the intrinsics change.
   void SetCamera(const CameraIntrinsics& k);
   // Renders `items` seen from T_camera_cones (p_camera = R p_cones + t) into
-  // `overlay_rgba` (CV_8UC4, the camera's size, premultiplied R G B A). It may
-  // share memory with the renderer: valid until the next Render.
-  void Render(const std::vector<DrawItem>& items, const Eigen::Isometry3d& T_camera_cones, cv::Mat& overlay_rgba);
+  // `overlay_rgba` (CV_8UC4, the camera's size, premultiplied R G B A, zero
+  // outside the models). Returns the region that can hold model pixels: only
+  // there are pixels read back, remapped and (by the caller) composited, the
+  // frame's main cost after the rasterisation itself.
+  cv::Rect Render(const std::vector<DrawItem>& items, const Eigen::Isometry3d& T_camera_cones, cv::Mat& overlay_rgba);
 
   const std::string& gl_renderer() const { return egl_.renderer(); }
 
@@ -53,6 +55,8 @@ class Renderer {
   std::unique_ptr<DistortionMap> map_;
   std::unique_ptr<Gl> gl_;
   cv::Mat canvas_;
+  // Where the items can appear on the canvas: their bounding boxes projected.
+  cv::Rect CanvasRoi(const std::vector<DrawItem>& items, const Eigen::Matrix4f& T_camera_cones) const;
 };
 
 }  // namespace ar_overlay
