@@ -48,7 +48,8 @@ void SoftwareRender(const Mesh& m, float scale, const Eigen::Isometry3d& T_camer
   const Eigen::Vector3d t = T_camera_model.translation();
   std::vector<cv::Point3f> object(m.vertices.size());
   for (size_t i = 0; i < object.size(); ++i)
-    object[i] = {scale * m.vertices[i].position[0], scale * m.vertices[i].position[1], scale * m.vertices[i].position[2]};
+    object[i] = {scale * m.vertices[i].position[0], scale * m.vertices[i].position[1],
+                 scale * m.vertices[i].position[2]};
   std::vector<cv::Point2f> px;
   const cv::Matx33d K(k.fx_px, 0, k.cx_px, 0, k.fy_px, k.cy_px, 0, 0, 1);
   cv::projectPoints(object, rvec, cv::Vec3d(t.x(), t.y(), t.z()), K, k.distortion, px);

@@ -47,8 +47,8 @@ Eigen::Matrix4f ProjectionFromIntrinsics(double fx, double fy, double cx, double
 
 Eigen::Isometry3d CameraLookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
   const Eigen::Vector3d z = (target - eye).normalized();  // optical axis
-  Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ());   // image right
-  if (x.norm() < 1e-9) x = Eigen::Vector3d::UnitX();       // looking straight up or down
+  Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ());  // image right
+  if (x.norm() < 1e-9) x = Eigen::Vector3d::UnitX();      // looking straight up or down
   x.normalize();
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() << x, z.cross(x), z;  // columns: the camera's axes in cones; y = z x x points down
@@ -122,7 +122,8 @@ cv::Rect DistortionMap::RawRoi(const cv::Rect& canvas_roi) const {
   std::vector<cv::Point2d> raw;
   cv::projectPoints(rays, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), K_, distortion_, raw);
   double x0 = raw[0].x, x1 = x0, y0 = raw[0].y, y1 = y0;
-  for (const auto& p : raw) x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+  for (const auto& p : raw)
+    x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
   const double big = 4.0 * (image.width + image.height);  // keeps the int conversion sane
   x0 = std::max(x0, -big), y0 = std::max(y0, -big), x1 = std::min(x1, big), y1 = std::min(y1, big);
   const cv::Rect r(static_cast<int>(std::floor(x0)) - 2, static_cast<int>(std::floor(y0)) - 2,

@@ -36,7 +36,8 @@ EglContext::EglContext() {
   EGLDisplay display = OpenDisplay();
   if (!eglBindAPI(EGL_OPENGL_ES_API)) Fail("eglBindAPI(EGL_OPENGL_ES_API)");
   // The default EGL_SURFACE_TYPE is a window, which a surfaceless display has none of.
-  const EGLint config_attribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_ES3_BIT, EGL_NONE};
+  const EGLint config_attribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_ES3_BIT,
+                                   EGL_NONE};
   EGLConfig config = nullptr;
   EGLint n = 0;
   if (!eglChooseConfig(display, config_attribs, &config, 1, &n) || n < 1) Fail("eglChooseConfig(ES3)");

@@ -17,8 +17,11 @@ Vertex MakeVertex(const Vector3f& p, const Vector3f& n, const Rgba& c) {
 
 // MATLAB's parula, coarsely: blue through teal to yellow.
 Rgba Parula(double s) {
-  static const float kStops[5][3] = {
-      {0.21f, 0.17f, 0.53f}, {0.07f, 0.44f, 0.88f}, {0.13f, 0.72f, 0.69f}, {0.65f, 0.75f, 0.24f}, {0.98f, 0.98f, 0.05f}};
+  static const float kStops[5][3] = {{0.21f, 0.17f, 0.53f},
+                                     {0.07f, 0.44f, 0.88f},
+                                     {0.13f, 0.72f, 0.69f},
+                                     {0.65f, 0.75f, 0.24f},
+                                     {0.98f, 0.98f, 0.05f}};
   s = std::clamp(s, 0.0, 1.0) * 4.0;
   const int i = std::min(static_cast<int>(s), 3);
   const float f = static_cast<float>(s - i);
@@ -132,13 +135,14 @@ Mesh CargoAircraft() {
   const float r = 2.15f;  // C-130: 29.8 m long, 40.4 m span, fuselage about 4.3 m across
   Mesh m;
   m.Append(Cylinder(r, 18, body), At(0, 0, 0, kZToX));
-  m.Append(Frustum(r, 0.9f, 3.5f, 32, body), At(9, 0, 0, kZToX));                   // nose
-  m.Append(Frustum(0.9f, 0.2f, 1.0f, 32, body), At(12.5f, 0, 0, kZToX));            // radome
-  m.Append(Box(1.2f, 2.6f, 0.8f, glass), At(10.2f, 0, 1.5f));                       // cockpit windows
-  m.Append(Frustum(r, 0.5f, 8.0f, 32, body), At(-9, 0, 0.2f, AngleAxisf(static_cast<float>(-M_PI / 2 + 0.12), Vector3f::UnitY())));  // upswept tail
-  m.Append(Box(4.0f, 40.4f, 0.5f, body), At(0, 0, r + 0.1f));                         // high wing
-  m.Append(Box(5.0f, 0.5f, 6.5f, body), At(-14.5f, 0, 4.6f));                          // fin
-  m.Append(Box(3.5f, 16.0f, 0.3f, body), At(-15.5f, 0, 1.4f));                         // tailplane
+  m.Append(Frustum(r, 0.9f, 3.5f, 32, body), At(9, 0, 0, kZToX));         // nose
+  m.Append(Frustum(0.9f, 0.2f, 1.0f, 32, body), At(12.5f, 0, 0, kZToX));  // radome
+  m.Append(Box(1.2f, 2.6f, 0.8f, glass), At(10.2f, 0, 1.5f));             // cockpit windows
+  m.Append(Frustum(r, 0.5f, 8.0f, 32, body),
+           At(-9, 0, 0.2f, AngleAxisf(static_cast<float>(-M_PI / 2 + 0.12), Vector3f::UnitY())));  // upswept tail
+  m.Append(Box(4.0f, 40.4f, 0.5f, body), At(0, 0, r + 0.1f));                                      // high wing
+  m.Append(Box(5.0f, 0.5f, 6.5f, body), At(-14.5f, 0, 4.6f));                                      // fin
+  m.Append(Box(3.5f, 16.0f, 0.3f, body), At(-15.5f, 0, 1.4f));                                     // tailplane
   const float engines_y[4] = {-10.5f, -5.5f, 5.5f, 10.5f};
   for (float y : engines_y) m.Append(Frustum(0.65f, 0.45f, 5.0f, 24, dark), At(-2.0f, y, 1.6f, kZToX));
   m.Append(Box(3.0f, 1.2f, 1.6f, dark), At(0.5f, 3.0f, -r + 0.2f));  // landing-gear sponsons

@@ -11,12 +11,11 @@ namespace ar_overlay {
 Mesh LoadModel(const std::string& path) {
   Assimp::Importer importer;
   // Validation runs first and turns a broken file (indices out of range) into an
-  // error instead of a crash in the later steps. Pre-transforming flattens the node hierarchy into the file's root frame;
-  // the YAML's pose and scale place that frame in `cones`.
+  // error instead of a crash in the later steps. Pre-transforming flattens the node hierarchy into the file's root
+  // frame; the YAML's pose and scale place that frame in `cones`.
   const aiScene* scene = importer.ReadFile(path, aiProcess_ValidateDataStructure | aiProcess_Triangulate |
-                                                     aiProcess_JoinIdenticalVertices |
-                                                     aiProcess_GenSmoothNormals | aiProcess_PreTransformVertices |
-                                                     aiProcess_SortByPType);
+                                                     aiProcess_JoinIdenticalVertices | aiProcess_GenSmoothNormals |
+                                                     aiProcess_PreTransformVertices | aiProcess_SortByPType);
   if (scene == nullptr) throw std::runtime_error(path + ": " + importer.GetErrorString());
   Mesh out;
   for (unsigned mi = 0; mi < scene->mNumMeshes; ++mi) {

@@ -35,8 +35,8 @@ CameraIntrinsics FromCameraInfo(const sensor_msgs::CameraInfo& info) {
   const std::string& model = info.distortion_model;
   if (!model.empty() && model != "plumb_bob" && model != "rational_polynomial")
     throw std::invalid_argument("camera_info distortion_model '" + model + "' is not plumb_bob/rational_polynomial");
-  return CameraIntrinsics{static_cast<int>(info.width), static_cast<int>(info.height), info.K[0], info.K[4],
-                          info.K[2], info.K[5], info.D};
+  return CameraIntrinsics{
+      static_cast<int>(info.width), static_cast<int>(info.height), info.K[0], info.K[4], info.K[2], info.K[5], info.D};
 }
 
 }  // namespace
@@ -72,7 +72,8 @@ class OverlayNodelet : public nodelet::Nodelet {
     updater_->add("overlay", this, &OverlayNodelet::Diagnose);
     out_freq_ = std::make_unique<diagnostic_updater::HeaderlessTopicDiagnostic>(
         "image", *updater_, diagnostic_updater::FrequencyStatusParam(&min_hz_, &max_hz_));
-    diag_timer_ = getNodeHandle().createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) { updater_->update(); });
+    diag_timer_ =
+        getNodeHandle().createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) { updater_->update(); });
     render_thread_ = std::thread(&OverlayNodelet::RenderLoop, this);  // joined in the destructor
     it_ = std::make_unique<image_transport::ImageTransport>(getNodeHandle());
     pub_ = image_transport::ImageTransport(getPrivateNodeHandle()).advertise("image", 1);
@@ -103,7 +104,8 @@ class OverlayNodelet : public nodelet::Nodelet {
       overlay = std::make_unique<Overlay>(rc);
       std::vector<std::string> errors;
       if (!config_.scene_yaml.empty()) errors = overlay->LoadScene(config_.scene_yaml);
-      for (const std::string& e : errors) NODELET_ERROR("ar_overlay: model not loaded, drawing the rest: %s", e.c_str());
+      for (const std::string& e : errors)
+        NODELET_ERROR("ar_overlay: model not loaded, drawing the rest: %s", e.c_str());
       NODELET_INFO("ar_overlay: %zu model(s) on %s", overlay->model_count() - errors.size(),
                    overlay->gl_renderer().c_str());
       std::lock_guard<std::mutex> lock(mutex_);
@@ -175,9 +177,9 @@ class OverlayNodelet : public nodelet::Nodelet {
       const ros::Time t0 = t1 - ros::Duration(config_.velocity_window_s);
       if (tf_buffer_->canTransform(camera, config_.fixed_frame, t0)) {
         const auto older = tf_buffer_->lookupTransform(camera, config_.fixed_frame, t0);
-        T_camera_cones = ExtrapolatePose(tf2::transformToEigen(older), older.header.stamp.toSec(), T_camera_cones,
-                                         t1.toSec(), stamp.toSec() + config_.display_latency_s,
-                                         config_.max_prediction_s);
+        T_camera_cones =
+            ExtrapolatePose(tf2::transformToEigen(older), older.header.stamp.toSec(), T_camera_cones, t1.toSec(),
+                            stamp.toSec() + config_.display_latency_s, config_.max_prediction_s);
       }
       return true;
     } catch (const tf2::TransformException& e) {

@@ -176,8 +176,8 @@ cv::Rect Renderer::CanvasRoi(const std::vector<DrawItem>& items, const Eigen::Ma
       p[corner] = (T * b.corner(static_cast<Eigen::AlignedBox3f::CornerType>(corner)).homogeneous()).head<3>();
       behind += p[corner].z() < static_cast<float>(config_.near_m);
     }
-    if (behind == 8) continue;        // wholly behind the near plane: invisible
-    if (behind > 0) return canvas;    // straddles it: GL clips, keep everything
+    if (behind == 8) continue;      // wholly behind the near plane: invisible
+    if (behind > 0) return canvas;  // straddles it: GL clips, keep everything
     for (const Eigen::Vector3f& c : p)
       box.extend(Eigen::Vector2f(static_cast<float>(camera_.fx_px * c.x() / c.z() + map_->canvas_cx()),
                                  static_cast<float>(camera_.fy_px * c.y() / c.z() + map_->canvas_cy())));
@@ -194,8 +194,8 @@ cv::Rect Renderer::Render(const std::vector<DrawItem>& items, const Eigen::Isome
                           cv::Mat& overlay_rgba) {
   if (!map_) throw std::logic_error("ar_overlay: Renderer::Render before SetCamera");
   const int W = map_->canvas_width(), H = map_->canvas_height();
-  const Eigen::Matrix4f P = ProjectionFromIntrinsics(camera_.fx_px, camera_.fy_px, map_->canvas_cx(),
-                                                     map_->canvas_cy(), W, H, config_.near_m, config_.far_m);
+  const Eigen::Matrix4f P = ProjectionFromIntrinsics(camera_.fx_px, camera_.fy_px, map_->canvas_cx(), map_->canvas_cy(),
+                                                     W, H, config_.near_m, config_.far_m);
   const Eigen::Matrix4f T_c_m0 = T_camera_cones.matrix().cast<float>();
   overlay_rgba.create(camera_.height_px, camera_.width_px, CV_8UC4);
   overlay_rgba.setTo(cv::Scalar::all(0));

@@ -26,8 +26,7 @@ std::string LoadConfig(const ros::NodeHandle& nh, OverlayConfig& c) {
     c.pose_mode = PoseMode::kPredicted;
   else
     return "pose_mode '" + mode + "' is neither image_stamp nor predicted";
-  if (!c.scene_yaml.empty() && !std::ifstream(c.scene_yaml))
-    return "scene_yaml '" + c.scene_yaml + "' cannot be read";
+  if (!c.scene_yaml.empty() && !std::ifstream(c.scene_yaml)) return "scene_yaml '" + c.scene_yaml + "' cannot be read";
   if (c.fixed_frame.empty()) return "fixed_frame is empty";
   if (!(c.tf_timeout_s >= 0 && c.tf_timeout_s <= 1)) return "tf_timeout_s must be in [0, 1]";
   if (!(c.render_rate_hz > 0 && c.render_rate_hz <= 240)) return "render_rate_hz must be in (0, 240]";

@@ -31,10 +31,10 @@ ModelSpec ParseModel(const YAML::Node& n, const std::string& folder, const std::
   const Eigen::Vector3d xyz = Vec3(n["xyz"], Eigen::Vector3d::Zero(), where + "xyz");
   const Eigen::Vector3d rpy = Vec3(n["rpy"], Eigen::Vector3d::Zero(), where + "rpy");
   s.T_parent_origin.translation() = xyz;
-  s.T_parent_origin.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
-                                Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
-                                Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
-                                   .toRotationMatrix();  // fixed-axis roll, pitch, yaw (REP-103)
+  s.T_parent_origin.linear() =
+      (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();  // fixed-axis roll, pitch, yaw (REP-103)
   s.parent = n["parent"] ? n["parent"].as<std::string>() : "";
   if (!s.parent.empty() && !earlier.count(s.parent))
     throw std::runtime_error(where + "parent '" + s.parent + "' is not listed before it");

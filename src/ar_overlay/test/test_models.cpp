@@ -25,7 +25,7 @@ std::string Slurp(const std::string& path) {
 
 TEST(Generators, PeaksKnownValuesAndSize) {
   EXPECT_NEAR(Peaks(0, 0), (3 - 1.0 / 3) * std::exp(-1.0), 1e-12);  // MATLAB: peaks(0,0) = 0.9810
-  EXPECT_NEAR(Peaks(0, 1.5), 8.0, 0.2);                           // the tallest peak, near (0, 1.6)
+  EXPECT_NEAR(Peaks(0, 1.5), 8.0, 0.2);                             // the tallest peak, near (0, 1.6)
   const Mesh m = PeaksSurface(160);
   EXPECT_GE(m.TriangleCount(), 50000u);
   EXPECT_EQ(m.vertices.size(), 160u * 160u);
@@ -128,8 +128,7 @@ TEST(Scene, ModelThatFailsIsReportedAndTheRestStillDraw) {
   const cv::Mat image(240, 320, CV_8UC3, cv::Scalar::all(0));
   std::string enc;
   cv::Mat out;
-  overlay.Process(image, "rgb8", {320, 240, 300, 300, 160, 120, {}},
-                                      Eigen::Isometry3d::Identity(), out, enc);
+  overlay.Process(image, "rgb8", {320, 240, 300, 300, 160, 120, {}}, Eigen::Isometry3d::Identity(), out, enc);
   EXPECT_GT(out.at<cv::Vec3b>(120, 160)[1], 150);  // the green plate
 }
 

@@ -60,9 +60,9 @@ TEST(DistortionMap, IdentityWithoutDistortionAndCanvasCoversBarrel) {
 
 TEST(Composite, BlendsPremultipliedAndSwapsForBgr) {
   cv::Mat overlay(1, 3, CV_8UC4);
-  overlay.at<cv::Vec4b>(0, 0) = {0, 0, 0, 0};        // transparent
-  overlay.at<cv::Vec4b>(0, 1) = {200, 0, 0, 255};    // opaque red
-  overlay.at<cv::Vec4b>(0, 2) = {100, 0, 50, 128};   // half-transparent, premultiplied
+  overlay.at<cv::Vec4b>(0, 0) = {0, 0, 0, 0};       // transparent
+  overlay.at<cv::Vec4b>(0, 1) = {200, 0, 0, 255};   // opaque red
+  overlay.at<cv::Vec4b>(0, 2) = {100, 0, 50, 128};  // half-transparent, premultiplied
   cv::Mat rgb(1, 3, CV_8UC3, cv::Scalar(10, 20, 30));
   cv::Mat bgr = rgb.clone();
   CompositeInPlace(overlay, "rgb8", rgb);
@@ -102,8 +102,8 @@ TEST(PoseExtrapolation, ConstantVelocity) {
   EXPECT_NEAR(T.translation().x(), 0.15, 1e-12);
   EXPECT_NEAR(Eigen::AngleAxisd(T.linear()).angle(), 0.3, 1e-12);
   EXPECT_NEAR(ExtrapolatePose(T0, 1.0, T1, 1.1, 5.0, 0.05).translation().x(), 0.15, 1e-12);  // capped
-  EXPECT_TRUE(ExtrapolatePose(T0, 1.1, T1, 1.1, 1.2, 1.0).isApprox(T1));  // no interval: latest
-  EXPECT_TRUE(ExtrapolatePose(T0, 1.0, T1, 1.1, 1.05, 1.0).isApprox(T1));  // not ahead: latest
+  EXPECT_TRUE(ExtrapolatePose(T0, 1.1, T1, 1.1, 1.2, 1.0).isApprox(T1));                     // no interval: latest
+  EXPECT_TRUE(ExtrapolatePose(T0, 1.0, T1, 1.1, 1.05, 1.0).isApprox(T1));                    // not ahead: latest
 }
 
 }  // namespace

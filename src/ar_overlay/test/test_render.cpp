@@ -161,8 +161,7 @@ TEST(OverlayAlpha, HalfTransparentModelBlendsWithTheImage) {
   const cv::Mat image(240, 320, CV_8UC3, cv::Scalar(0, 0, 200));  // bgr: red
   std::string enc;
   cv::Mat out;
-  overlay.Process(image, "bgr8", {320, 240, 300, 300, 160, 120, {}},
-                                      Eigen::Isometry3d::Identity(), out, enc);
+  overlay.Process(image, "bgr8", {320, 240, 300, 300, 160, 120, {}}, Eigen::Isometry3d::Identity(), out, enc);
   EXPECT_EQ(enc, "bgr8");
   const cv::Vec3b centre = out.at<cv::Vec3b>(120, 160), corner = out.at<cv::Vec3b>(2, 2);
   EXPECT_EQ(corner, cv::Vec3b(0, 0, 200));  // untouched

@@ -2,8 +2,8 @@
 // frame's grid drawn by cv::projectPoints, so placement can be checked by eye)
 // and writes the composited PNG.
 // Usage: ar_overlay_render <scene.yaml> <out.png> [eye_x eye_y eye_z] [background.png]
-#include <cstdio>
 #include <Eigen/Core>
+#include <cstdio>
 #include <cstdlib>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
@@ -62,7 +62,7 @@ int main(int argc, char** argv) {
     }
     std::string enc;
     cv::Mat out;
-  overlay.Process(background, "bgr8", k, T_camera_cones, out, enc);
+    overlay.Process(background, "bgr8", k, T_camera_cones, out, enc);
     cv::imwrite(argv[2], out);
     std::printf("wrote %s (%s)\n", argv[2], overlay.gl_renderer().c_str());
   } catch (const std::exception& e) {

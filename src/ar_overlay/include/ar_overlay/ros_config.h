@@ -18,14 +18,14 @@ struct OverlayConfig {
   std::string fixed_frame = "cones";  // where the models live
   std::string camera_frame;           // "" takes the image's frame_id
   PoseMode pose_mode = PoseMode::kImageStamp;
-  double tf_timeout_s = 0.05;         // image-stamp mode: wait this long for the pose
-  double render_rate_hz = 40.0;       // predicted mode
-  double display_latency_s = 0.0;     // predicted mode: frame-out to on-screen delay to predict across
-  double max_prediction_s = 0.1;      // predicted mode: never extrapolate further than this
-  double velocity_window_s = 0.025;   // predicted mode: the older pose for the velocity is this far back
+  double tf_timeout_s = 0.05;        // image-stamp mode: wait this long for the pose
+  double render_rate_hz = 40.0;      // predicted mode
+  double display_latency_s = 0.0;    // predicted mode: frame-out to on-screen delay to predict across
+  double max_prediction_s = 0.1;     // predicted mode: never extrapolate further than this
+  double velocity_window_s = 0.025;  // predicted mode: the older pose for the velocity is this far back
   double near_m = 0.05;
   double far_m = 200.0;
-  bool show_window = false;           // fullscreen OpenCV window for the rig's LCD
+  bool show_window = false;  // fullscreen OpenCV window for the rig's LCD
   std::string window_name = "ar_overlay";
 };
 
