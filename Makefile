@@ -72,3 +72,10 @@ experiments: build
 	@$(ENV) && $(WS)/devel/lib/cone_tracker/cone_tracker_experiments --out $(ROOT)/out/experiments \
 	  | tee $(ROOT)/out/experiments/report.txt
 	@/usr/bin/python3 $(ROOT)/src/cone_tracker/scripts/plot_experiments.py $(ROOT)/out/experiments
+
+# ar_overlay: rviz with src/ar_overlay/rviz/overlay.rviz under Xvfb, on stand-in data
+# (rviz_demo.launch), screenshot to out/rviz_overlay.png.
+.PHONY: rviz-screenshot
+rviz-screenshot: build
+	@mkdir -p $(ROOT)/out
+	@$(ENV) && bash $(ROOT)/src/ar_overlay/scripts/rviz_screenshot.sh $(ROOT)/out/rviz_overlay.png 25

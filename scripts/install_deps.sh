@@ -16,7 +16,7 @@ PACKAGES=(
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   libdiagnostic-updater-dev
   libsensor-msgs-dev libgeometry-msgs-dev libnav-msgs-dev libvisualization-msgs-dev libstd-srvs-dev
-  librviz-dev rviz
+  librviz-dev rviz python3-visualization-msgs
   # maths and vision
   libeigen3-dev libceres-dev libopencv-dev libsdp-dev nlohmann-json3-dev
   # GigE camera (Aravis 0.8; its pkg-config needs libusb)
@@ -24,7 +24,7 @@ PACKAGES=(
   # rendering: models, headless OpenGL, a display for rviz
   libassimp-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libgles-dev xvfb
   # reports
-  python3-numpy python3-matplotlib python3-yaml
+  python3-numpy python3-matplotlib python3-yaml python3-pil
   # python messages for the rostests
   python3-std-msgs python3-sensor-msgs python3-std-srvs python3-diagnostic-msgs python3-nav-msgs
   # YAML files (rig_sim's cone layouts, imu_driver's calibrations); the BROAD IMU data set's .mat files (imu_driver via scipy, pose_ekf via matio)

@@ -1,0 +1,242 @@
+#include "ar_overlay/renderer.h"
+
+#include <GLES3/gl3.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace ar_overlay {
+namespace {
+
+const char* kVertexShader = R"(#version 300 es
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec4 a_color;
+uniform mat4 u_model_view;   // camera_from_model
+uniform mat3 u_normal_matrix;
+uniform mat4 u_projection;
+out vec3 v_position_c;
+out vec3 v_normal_c;
+out vec4 v_color;
+void main() {
+  vec4 p = u_model_view * vec4(a_position, 1.0);
+  v_position_c = p.xyz;
+  v_normal_c = u_normal_matrix * a_normal;
+  v_color = a_color;
+  gl_Position = u_projection * p;
+}
+)";
+
+// Lambert diffuse plus Blinn-Phong specular from a headlight above and left of
+// the camera; two-sided so open surfaces (peaks) are lit from below too.
+// Output is premultiplied by alpha, which is what remap's interpolation at
+// model edges and the composite (composite.cpp) expect.
+const char* kFragmentShader = R"(#version 300 es
+precision highp float;
+in vec3 v_position_c;
+in vec3 v_normal_c;
+in vec4 v_color;
+uniform float u_alpha;
+uniform vec4 u_color_override;
+out vec4 o_color;
+void main() {
+  vec3 n = normalize(v_normal_c);
+  vec3 to_eye = normalize(-v_position_c);
+  if (dot(n, to_eye) < 0.0) n = -n;
+  vec3 to_light = normalize(vec3(-0.3, -0.6, -1.0));
+  float diffuse = max(dot(n, to_light), 0.0);
+  float specular = pow(max(dot(n, normalize(to_light + to_eye)), 0.0), 32.0);
+  vec3 base = mix(v_color.rgb, u_color_override.rgb, u_color_override.a);
+  vec3 rgb = min(base * (0.3 + 0.7 * diffuse) + vec3(0.25 * specular), vec3(1.0));
+  float a = v_color.a * u_alpha;
+  o_color = vec4(rgb * a, a);
+}
+)";
+
+GLuint Compile(GLenum type, const char* source) {
+  GLuint shader = glCreateShader(type);
+  glShaderSource(shader, 1, &source, nullptr);
+  glCompileShader(shader);
+  GLint ok = 0;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[1024] = {0};
+    glGetShaderInfoLog(shader, sizeof(log), nullptr, log);
+    throw std::runtime_error(std::string("ar_overlay: shader compile failed: ") + log);
+  }
+  return shader;
+}
+
+}  // namespace
+
+struct Renderer::Gl {
+  GLuint program = 0;
+  GLint u_model_view = -1, u_normal_matrix = -1, u_projection = -1, u_alpha = -1, u_color_override = -1;
+  GLuint framebuffer = 0, color_rb = 0, depth_rb = 0;
+  struct GpuMesh {
+    GLuint vao = 0, vbo = 0, ibo = 0;
+    GLsizei index_count = 0;
+    Eigen::AlignedBox3f bounds;  // in the model's frame
+  };
+  std::vector<GpuMesh> meshes;
+};
+
+Renderer::Renderer(const RenderConfig& config) : config_(config), gl_(new Gl) {
+  if (!(config.near_m > 0 && config.far_m > config.near_m))
+    throw std::invalid_argument("ar_overlay: need 0 < near_m < far_m");
+  GLuint vs = Compile(GL_VERTEX_SHADER, kVertexShader), fs = Compile(GL_FRAGMENT_SHADER, kFragmentShader);
+  gl_->program = glCreateProgram();
+  glAttachShader(gl_->program, vs);
+  glAttachShader(gl_->program, fs);
+  glLinkProgram(gl_->program);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  GLint ok = 0;
+  glGetProgramiv(gl_->program, GL_LINK_STATUS, &ok);
+  if (!ok) throw std::runtime_error("ar_overlay: shader program link failed");
+  gl_->u_model_view = glGetUniformLocation(gl_->program, "u_model_view");
+  gl_->u_normal_matrix = glGetUniformLocation(gl_->program, "u_normal_matrix");
+  gl_->u_projection = glGetUniformLocation(gl_->program, "u_projection");
+  gl_->u_alpha = glGetUniformLocation(gl_->program, "u_alpha");
+  gl_->u_color_override = glGetUniformLocation(gl_->program, "u_color_override");
+}
+
+Renderer::~Renderer() {
+  egl_.MakeCurrent();
+  for (auto& m : gl_->meshes) {
+    glDeleteVertexArrays(1, &m.vao);
+    glDeleteBuffers(1, &m.vbo);
+    glDeleteBuffers(1, &m.ibo);
+  }
+  glDeleteFramebuffers(1, &gl_->framebuffer);
+  glDeleteRenderbuffers(1, &gl_->color_rb);
+  glDeleteRenderbuffers(1, &gl_->depth_rb);
+  glDeleteProgram(gl_->program);
+}
+
+int Renderer::AddMesh(const Mesh& mesh) {
+  Gl::GpuMesh m;
+  glGenVertexArrays(1, &m.vao);
+  glBindVertexArray(m.vao);
+  glGenBuffers(1, &m.vbo);
+  glBindBuffer(GL_ARRAY_BUFFER, m.vbo);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.vertices.size() * sizeof(Vertex)), mesh.vertices.data(),
+               GL_STATIC_DRAW);
+  glGenBuffers(1, &m.ibo);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m.ibo);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(uint32_t)),
+               mesh.indices.data(), GL_STATIC_DRAW);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, position)));
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, normal)));
+  glEnableVertexAttribArray(2);
+  glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, color)));
+  glBindVertexArray(0);
+  m.index_count = static_cast<GLsizei>(mesh.indices.size());
+  for (const Vertex& v : mesh.vertices) m.bounds.extend(Eigen::Vector3f(v.position[0], v.position[1], v.position[2]));
+  gl_->meshes.push_back(m);
+  return static_cast<int>(gl_->meshes.size()) - 1;
+}
+
+void Renderer::SetCamera(const CameraIntrinsics& k) {
+  if (map_ && k == camera_) return;
+  const std::string why = Validate(k);
+  if (!why.empty()) throw std::invalid_argument("ar_overlay: camera intrinsics: " + why);
+  camera_ = k;
+  map_.reset(new DistortionMap(k));
+  if (gl_->framebuffer == 0) {
+    glGenFramebuffers(1, &gl_->framebuffer);
+    glGenRenderbuffers(1, &gl_->color_rb);
+    glGenRenderbuffers(1, &gl_->depth_rb);
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, gl_->framebuffer);
+  glBindRenderbuffer(GL_RENDERBUFFER, gl_->color_rb);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, map_->canvas_width(), map_->canvas_height());
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, gl_->color_rb);
+  glBindRenderbuffer(GL_RENDERBUFFER, gl_->depth_rb);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, map_->canvas_width(), map_->canvas_height());
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, gl_->depth_rb);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw std::runtime_error("ar_overlay: offscreen framebuffer incomplete");
+  canvas_.create(map_->canvas_height(), map_->canvas_width(), CV_8UC4);
+}
+
+cv::Rect Renderer::CanvasRoi(const std::vector<DrawItem>& items, const Eigen::Matrix4f& T_camera_cones) const {
+  const cv::Rect canvas(0, 0, map_->canvas_width(), map_->canvas_height());
+  Eigen::AlignedBox2f box;
+  for (const DrawItem& item : items) {
+    if (item.mesh_id < 0 || item.mesh_id >= static_cast<int>(gl_->meshes.size())) continue;
+    const Eigen::AlignedBox3f& b = gl_->meshes[static_cast<size_t>(item.mesh_id)].bounds;
+    if (b.isEmpty()) continue;
+    const Eigen::Matrix4f T = T_camera_cones * item.T_cones_model;
+    Eigen::Vector3f p[8];
+    int behind = 0;
+    for (int corner = 0; corner < 8; ++corner) {
+      p[corner] = (T * b.corner(static_cast<Eigen::AlignedBox3f::CornerType>(corner)).homogeneous()).head<3>();
+      behind += p[corner].z() < static_cast<float>(config_.near_m);
+    }
+    if (behind == 8) continue;      // wholly behind the near plane: invisible
+    if (behind > 0) return canvas;  // straddles it: GL clips, keep everything
+    for (const Eigen::Vector3f& c : p)
+      box.extend(Eigen::Vector2f(static_cast<float>(camera_.fx_px * c.x() / c.z() + map_->canvas_cx()),
+                                 static_cast<float>(camera_.fy_px * c.y() / c.z() + map_->canvas_cy())));
+  }
+  if (box.isEmpty()) return cv::Rect();
+  const float big = 4.0f * static_cast<float>(canvas.width + canvas.height);  // keeps the int conversion sane
+  const Eigen::Vector2f lo = box.min().cwiseMax(-big), hi = box.max().cwiseMin(big);
+  const cv::Rect r(static_cast<int>(std::floor(lo.x())) - 2, static_cast<int>(std::floor(lo.y())) - 2,
+                   static_cast<int>(std::ceil(hi.x() - lo.x())) + 5, static_cast<int>(std::ceil(hi.y() - lo.y())) + 5);
+  return r & canvas;
+}
+
+cv::Rect Renderer::Render(const std::vector<DrawItem>& items, const Eigen::Isometry3d& T_camera_cones,
+                          cv::Mat& overlay_rgba) {
+  if (!map_) throw std::logic_error("ar_overlay: Renderer::Render before SetCamera");
+  const int W = map_->canvas_width(), H = map_->canvas_height();
+  const Eigen::Matrix4f P = ProjectionFromIntrinsics(camera_.fx_px, camera_.fy_px, map_->canvas_cx(), map_->canvas_cy(),
+                                                     W, H, config_.near_m, config_.far_m);
+  const Eigen::Matrix4f T_c_m0 = T_camera_cones.matrix().cast<float>();
+  overlay_rgba.create(camera_.height_px, camera_.width_px, CV_8UC4);
+  overlay_rgba.setTo(cv::Scalar::all(0));
+  const cv::Rect roi = CanvasRoi(items, T_c_m0);
+  if (roi.empty()) return cv::Rect();  // nothing in view: nothing to draw
+  glBindFramebuffer(GL_FRAMEBUFFER, gl_->framebuffer);
+  glViewport(0, 0, W, H);
+  glEnable(GL_SCISSOR_TEST);  // clear and draw only where the models can be
+  glScissor(roi.x, roi.y, roi.width, roi.height);
+  glClearColor(0, 0, 0, 0);
+  glClearDepthf(1.0f);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_CULL_FACE);  // imported meshes' winding is not to be trusted
+  glDisable(GL_BLEND);      // alpha goes to the composite, against the camera image
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glUseProgram(gl_->program);
+  glUniformMatrix4fv(gl_->u_projection, 1, GL_FALSE, P.data());  // Eigen is column-major, as GL
+  for (const DrawItem& item : items) {
+    if (item.mesh_id < 0 || item.mesh_id >= static_cast<int>(gl_->meshes.size())) continue;
+    const Eigen::Matrix4f model_view = T_c_m0 * item.T_cones_model;
+    const Eigen::Matrix3f normal_matrix = model_view.topLeftCorner<3, 3>().inverse().transpose();
+    glUniformMatrix4fv(gl_->u_model_view, 1, GL_FALSE, model_view.data());
+    glUniformMatrix3fv(gl_->u_normal_matrix, 1, GL_FALSE, normal_matrix.data());
+    glUniform1f(gl_->u_alpha, item.alpha);
+    glUniform4fv(gl_->u_color_override, 1, item.color_override.data());
+    const Gl::GpuMesh& m = gl_->meshes[static_cast<size_t>(item.mesh_id)];
+    glBindVertexArray(m.vao);
+    glDrawElements(GL_TRIANGLES, m.index_count, GL_UNSIGNED_INT, nullptr);
+  }
+  glBindVertexArray(0);
+  glDisable(GL_SCISSOR_TEST);
+  // Read back the region into its place in canvas_ (row 0 = image top, camera_projection.h).
+  canvas_.setTo(cv::Scalar::all(0));
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glPixelStorei(GL_PACK_ROW_LENGTH, W);
+  glReadPixels(roi.x, roi.y, roi.width, roi.height, GL_RGBA, GL_UNSIGNED_BYTE, canvas_.ptr(roi.y, roi.x));
+  glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+  const cv::Rect raw_roi = map_->RawRoi(roi);
+  if (!raw_roi.empty()) map_->ApplyRoi(canvas_, raw_roi, overlay_rgba);
+  return raw_roi;
+}
+
+}  // namespace ar_overlay
