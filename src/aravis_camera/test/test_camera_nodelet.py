@@ -1,5 +1,7 @@
 #!/usr/bin/python3
-"""CameraNodelet in a manager with the fake GigE camera: frames at the set rate,
+"""CameraNodelet in a manager with the fake GigE camera: frames at the set rate
+(10 Hz, then 5 Hz through dynamic_reconfigure: rates the software fake keeps up
+with on a loaded machine),
 size and encoding, camera_info from the calibration file, and the zero-copy
 probe in the same manager receiving the driver's own buffers."""
 import re
@@ -48,14 +50,14 @@ class CameraNodeletTest(unittest.TestCase):
         return predicate()
 
     def test_stream(self):
-        self.assertTrue(self.wait_for(lambda: len(self.images) >= 90, 45.0), "got %d frames" % len(self.images))
+        self.assertTrue(self.wait_for(lambda: len(self.images) >= 40, 45.0), "got %d frames" % len(self.images))
         with self.lock:
-            frames = list(self.images[-60:])
+            frames = list(self.images[-30:])
             info = self.infos[-1]
         _, _, width, height, encoding, step, size = frames[-1]
         self.assertEqual((width, height, encoding, step, size), (1024, 768, "rgb8", 3072, 1024 * 768 * 3))
         rate = (len(frames) - 1) / (frames[-1][1] - frames[0][1])
-        self.assertAlmostEqual(rate, 30.0, delta=2.0)
+        self.assertAlmostEqual(rate, 10.0, delta=1.0)
         self.assertEqual(info.width, 1024)
         self.assertAlmostEqual(info.K[0], 770.0)
         self.assertEqual(info.distortion_model, "plumb_bob")
@@ -69,14 +71,14 @@ class CameraNodeletTest(unittest.TestCase):
 
         # dynamic_reconfigure reaches the camera: half the frame rate.
         client = dynamic_reconfigure.client.Client("camera", timeout=10)
-        client.update_configuration({"frame_rate": 15.0})
+        client.update_configuration({"frame_rate": 5.0})
         rospy.sleep(1.0)
         with self.lock:
             start = len(self.images)
-        self.assertTrue(self.wait_for(lambda: len(self.images) >= start + 45, 20.0))
+        self.assertTrue(self.wait_for(lambda: len(self.images) >= start + 20, 20.0))
         with self.lock:
             frames = list(self.images[start:])
-        self.assertAlmostEqual((len(frames) - 1) / (frames[-1][1] - frames[0][1]), 15.0, delta=1.5)
+        self.assertAlmostEqual((len(frames) - 1) / (frames[-1][1] - frames[0][1]), 5.0, delta=0.5)
 
         self.assertTrue(self.wait_for(lambda: self.diag is not None, 10.0), "no camera diagnostics")
         values = {kv.key: kv.value for kv in self.diag.values}

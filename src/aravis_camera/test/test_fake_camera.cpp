@@ -91,25 +91,30 @@ std::unique_ptr<CameraDevice> MakeDevice(const CameraConfig& c, Collector* col) 
       [col](LogLevel l, const std::string& m) { col->OnLog(l, m); });
 }
 
+// 12 Hz rather than the rig's 30: the fake camera draws its frames in
+// software and falls behind on a saturated machine; the point is that the
+// configured rate is applied, not the fake's top speed.
 TEST(FakeCamera, FramesArriveAtTheConfiguredRateWithSizeAndEncoding) {
   FakeCamera fake;
   Collector col;
-  auto device = MakeDevice(TestConfig("BayerRG8"), &col);
+  CameraConfig c = TestConfig("BayerRG8");
+  c.frame_rate_hz = 12.0;
+  auto device = MakeDevice(c, &col);
   device->Start();
-  ASSERT_TRUE(col.WaitFrames(75, 10s)) << "frames: " << col.Count();
+  ASSERT_TRUE(col.WaitFrames(40, 15s)) << "frames: " << col.Count();
   device->Stop();
   EXPECT_EQ(col.encoding, "bayer_rggb8");
   EXPECT_EQ(col.width, 1024u);
   EXPECT_EQ(col.height, 768u);
   EXPECT_EQ(col.step, 1024u);
   EXPECT_EQ(col.data_size, 1024u * 768u);
-  // Rate over the last 60 frames, from the host completion times.
+  // Rate over the last 30 frames, from the host completion times.
   const auto& f = col.frames;
-  const double span_s = (f[74].completion_ns - f[14].completion_ns) * 1e-9;
-  EXPECT_NEAR(60.0 / span_s, 30.0, 2.0);
+  const double span_s = (f[39].completion_ns - f[9].completion_ns) * 1e-9;
+  EXPECT_NEAR(30.0 / span_s, 12.0, 1.0);
   // Stamps increase and are on the host clock.
-  for (size_t k = 15; k < 75; ++k) EXPECT_GT(f[k].stamp_ns, f[k - 1].stamp_ns);
-  EXPECT_NEAR((f[74].stamp_ns - f[74].completion_ns) * 1e-9, 0.0, 0.5);
+  for (size_t k = 10; k < 40; ++k) EXPECT_GT(f[k].stamp_ns, f[k - 1].stamp_ns);
+  EXPECT_NEAR((f[39].stamp_ns - f[39].completion_ns) * 1e-9, 0.0, 0.5);
 }
 
 // Discovery: Aravis's in-process fake camera is listed like a networked one.
