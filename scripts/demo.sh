@@ -22,6 +22,32 @@ REPORT="$OUT/report.md"
   echo
 } > "$REPORT"
 
+# The bundled sample bags: what they hold, and the validator's verdict.
+{
+  echo "## Sample bags (rig_sim)"
+  echo
+  for bag in "$ROOT"/rosbags/*.bag; do
+    echo "### $(basename "$bag")"
+    echo
+    echo '```'
+    "$LIB/rig_sim/validate_bag" "$bag" 2>&1 | tail -12
+    echo '```'
+    echo
+  done
+} >> "$REPORT"
+
+# What the simulated camera sees, at full size, for three scenarios.
+{
+  echo "## Simulated camera frames"
+  echo
+  for spec in "handheld 20.0" "clutter 12.0" "indoor 6.0"; do
+    set -- $spec
+    "$LIB/rig_sim/render_frame" "$OUT/frame_$1.png" "$2" "$1"
+    echo "- \`frame_$1.png\`: scenario $1 at t = $2 s"
+  done
+  echo
+} >> "$REPORT"
+
 "$LIB/pose_math/pose_math_demo" | sed 's/^# /## /' >> "$REPORT"
 
-echo "demo: wrote $REPORT"
+echo "demo: wrote $REPORT and the frames in $OUT/"

@@ -1,6 +1,7 @@
 // Renders one frame of a scenario to a PNG, to look at:
 //   render_frame OUT.png [t_s] [scenario] [seed] [scale]
 #include <cstdio>
+#include <exception>
 #include <string>
 
 #include <opencv2/imgcodecs.hpp>
@@ -8,9 +9,15 @@
 
 #include "rig_sim/sim_stream.h"
 
-int main(int argc, char** argv) {
-  if (argc < 2) {
-    std::fprintf(stderr, "usage: render_frame OUT.png [t_s] [scenario] [seed] [scale]\n");
+namespace {
+constexpr const char* kUsage =
+    "usage: render_frame OUT.png [t_s] [scenario] [seed] [scale]\n"
+    "Renders the frame the simulated camera sees at t_s (default 0) of the scenario (default handheld).\n";
+
+int Run(int argc, char** argv) {
+  const std::string out = argv[1];
+  if (out.size() < 5 || out.substr(out.size() - 4) != ".png") {
+    std::fprintf(stderr, "render_frame: the output must be a .png file, got '%s'\n%s", out.c_str(), kUsage);
     return 2;
   }
   const double t = argc > 2 ? std::stod(argv[2]) : 0.0;
@@ -32,5 +39,23 @@ int main(int argc, char** argv) {
   stream.RenderFrame(ev, rgb.data);
   cv::Mat bgr;
   cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
-  return cv::imwrite(argv[1], bgr) ? 0 : 1;
+  if (!cv::imwrite(out, bgr)) {
+    std::fprintf(stderr, "render_frame: could not write %s\n", out.c_str());
+    return 1;
+  }
+  return 0;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
+    std::fprintf(argc < 2 ? stderr : stdout, "%s", kUsage);
+    return argc < 2 ? 2 : 0;
+  }
+  try {
+    return Run(argc, argv);
+  } catch (const std::exception& e) {  // a number that does not parse, a file that cannot be written
+    std::fprintf(stderr, "render_frame: %s\n%s", e.what(), kUsage);
+    return 2;
+  }
 }
