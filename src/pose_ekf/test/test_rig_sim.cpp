@@ -12,6 +12,9 @@
 #include <cmath>
 #include <iostream>
 #include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "pose_math/covariance.h"
 #include "pose_math/rotation.h"
@@ -179,9 +182,9 @@ TEST(RigSim, AverageNeesInsideTheChiSquareInterval) {
             << std::sqrt(acc.sum_pos2 / acc.samples) * 1e3 << " mm\n";
   EXPECT_GT(mean, lo);
   EXPECT_LT(mean, hi);
-  // Per step the run average is not held to the interval: the still start
-  // (t < 3.5 s) is conservative and the motion after it less so, so only about
-  // half of the steps fall inside (printed above).
+  // Per step the run average is not held to the interval: it varies along the
+  // sequence (still start, then motion), and only about half of the steps fall
+  // inside (printed above).
 }
 
 struct Outage {
