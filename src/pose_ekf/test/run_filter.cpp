@@ -54,6 +54,11 @@ RunStats RunFilter(const pose_ekf::EkfConfig& config, const std::vector<Event>& 
   return acc.Finish();
 }
 
+double ChiSquareQuantile(double k, double z) {
+  const double a = 2.0 / (9.0 * k);
+  return k * std::pow(1.0 - a + z * std::sqrt(a), 3.0);
+}
+
 RunStats CameraOnlyStats(const std::vector<Event>& events) {
   Accumulator acc;
   for (const Event& e : events) {

@@ -42,12 +42,6 @@ TEST(Accuracy, BeatsTheRawCameraWithCamerasVisible) {
   EXPECT_GE(ekf.fraction_within_3_sigma, 0.95);
 }
 
-// Wilson-Hilferty approximation of the chi-square quantile (dof k, normal quantile z).
-double ChiSquareQuantile(double k, double z) {
-  const double a = 2.0 / (9.0 * k);
-  return k * std::pow(1.0 - a + z * std::sqrt(a), 3.0);
-}
-
 // Monte Carlo consistency (Bar-Shalom's NEES test): 50 sample paths of the
 // filter's own process model; at each time step the NEES averaged over the runs
 // must lie in the two-sided 95% interval of chi2(6 N)/N.
