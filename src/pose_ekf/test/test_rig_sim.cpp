@@ -101,7 +101,8 @@ std::vector<Event> Generate(const rig_sim::Scenario& s, uint64_t noise_seed, con
       for (int i = 0; i < 6; ++i) n[i] = normal(rng);
       const Eigen::Matrix<double, 6, 1> d = L * n;  // on the tangent plane: left (fixed-axis) rotation, as ROS
       e.camera.stamp_s = t;
-      e.camera.T_cones_camera.q = pose_math::Multiply(pose_math::QuatFromRotationVector(d.tail<3>()), e.truth.T_cones_camera.q);
+      e.camera.T_cones_camera.q =
+          pose_math::Multiply(pose_math::QuatFromRotationVector(d.tail<3>()), e.truth.T_cones_camera.q);
       e.camera.T_cones_camera.t = e.truth.T_cones_camera.t + d.head<3>();
       e.camera.cov = pose_math::CovarianceThesisFromRos(e.camera.T_cones_camera.q, cov6);
       events.push_back(e);
@@ -259,11 +260,12 @@ TEST(RigSim, LookAwayWithoutGyrosFreezesThePose) {
     if (e.is_camera && e.stamp_s <= o.start_s) frozen = b.filter().Pose().pose;
     if (e.is_camera || e.stamp_s <= o.start_s || e.stamp_s >= o.end_s) continue;
     const pose_math::Pose now = b.filter().Pose().pose;
-    max_change = std::max(max_change, pose_math::RotationErrorRad(frozen, now) + pose_math::TranslationError(frozen, now));
+    max_change =
+        std::max(max_change, pose_math::RotationErrorRad(frozen, now) + pose_math::TranslationError(frozen, now));
     max_error = std::max(max_error, pose_math::RotationErrorRad(e.truth.T_cones_camera, now));
   }
-  std::cout << "[ rig_sim ] look_away seed 1, gyros off: pose change over the " << o.end_s - o.start_s
-            << " s outage " << max_change << ", max orientation error " << max_error * kRadToDeg << " deg\n";
+  std::cout << "[ rig_sim ] look_away seed 1, gyros off: pose change over the " << o.end_s - o.start_s << " s outage "
+            << max_change << ", max orientation error " << max_error * kRadToDeg << " deg\n";
   EXPECT_LT(max_change, 1e-12);
   EXPECT_GT(max_error * kRadToDeg, 30.0);
 }
