@@ -1,0 +1,80 @@
+// Segmentation time per 1024x768 frame (3 road cones and orange distractors),
+// single-threaded, against an OpenCV baseline of the colour + connected
+// components stage (cvtColor to HSV, inRange, connectedComponentsWithStats)
+// on the same frames. Prints BENCH lines (DESIGN.md).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "cone_tracker/vision/segmenter.h"
+#include "vision_frames.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double Ms(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
+double Median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+int main() {
+  using namespace cone_tracker;
+  cv::setNumThreads(1);
+  rig_sim::Scene scene = rig_sim::DefaultScene();
+  rig_sim::BoxSpec box;
+  box.center_m = Eigen::Vector3d(0.2, -0.5, 0.15);
+  scene.boxes.push_back(box);
+  rig_sim::PatchSpec patch;
+  patch.center_m = Eigen::Vector2d(-0.3, 0.6);
+  scene.patches.push_back(patch);
+  std::vector<SimFrame> frames;
+  for (int i = 0; i < 8; ++i) {
+    const double az = 0.2 + 0.25 * i;
+    frames.push_back(RenderSim(scene, LookAt(Eigen::Vector3d(3.3 * std::cos(az), 3.3 * std::sin(az), 1.5),
+                                             Eigen::Vector3d(0, 0, 0.3))));
+  }
+  const CameraModel cam = ToCameraModel(frames[0].camera);
+  const int w = frames[0].camera.width_px, h = frames[0].camera.height_px;
+  Segmenter seg{SegmenterConfig()};
+  const HsiBounds& k = seg.config().hsi;
+  // OpenCV's 8-bit HSV: H in [0, 180) for [0, 360) deg, S and V in [0, 255].
+  const cv::Scalar lo(k.hue_min_rad * 90.0 / M_PI, k.sat_min * 255.0, k.val_min * 255.0);
+  const cv::Scalar hi(k.hue_max_rad * 90.0 / M_PI, k.sat_max * 255.0, k.val_max * 255.0);
+  const int kFrames = 1500;
+  std::vector<double> ours, baseline;
+  size_t cones = 0, cv_blobs = 0;
+  cv::Mat hsv, mask, labels, stats, centroids;
+  for (int i = 0; i < kFrames; ++i) {
+    const SimFrame& f = frames[size_t(i) % frames.size()];
+    const ImageView view{f.rgb.data(), w, h, w * 3, "rgb8"};
+    const auto t0 = Clock::now();
+    const SegmentationResult r = seg.Process(view, cam);
+    const auto t1 = Clock::now();
+    const cv::Mat rgb(h, w, CV_8UC3, const_cast<uint8_t*>(f.rgb.data()));
+    cv::cvtColor(rgb, hsv, cv::COLOR_RGB2HSV);
+    cv::inRange(hsv, lo, hi, mask);
+    const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8);
+    const auto t2 = Clock::now();
+    ours.push_back(Ms(t0, t1));
+    baseline.push_back(Ms(t1, t2));
+    cones += r.cones.size();
+    cv_blobs += size_t(n - 1);
+  }
+  const double ours_ms = Median(ours), base_ms = Median(baseline);
+  std::printf("frames %d at %dx%d, cones found per frame %.2f, OpenCV blobs per frame %.1f\n", kFrames, w, h,
+              double(cones) / kFrames, double(cv_blobs) / kFrames);
+  std::printf("segmentation (colour, ROI, blobs, gates, peak/base, undistort) median %.3f ms\n", ours_ms);
+  std::printf("OpenCV baseline (cvtColor HSV + inRange + connectedComponentsWithStats) median %.3f ms\n", base_ms);
+  std::printf("BENCH cone_tracker.frame_median %.3f ms\n", ours_ms);
+  std::printf("BENCH cone_tracker.opencv_color_cc_median %.3f ms\n", base_ms);
+  std::printf("BENCH cone_tracker.color_cc_ratio %.3f ratio\n", ours_ms / base_ms);
+  return 0;
+}

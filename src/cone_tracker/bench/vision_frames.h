@@ -1,0 +1,36 @@
+// rig_sim frames with ground truth for the segmentation tests and benchmark:
+// a camera looking at a scene, the rendered rgb8 frame, and where each cone's
+// peak and front base point (the surface point facing the camera, 3.1.4)
+// project.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cone_tracker/pose/pnp.h"
+#include "rig_sim/camera_model.h"
+#include "rig_sim/scene.h"
+#include "rig_sim/trajectory.h"
+
+namespace cone_tracker {
+
+struct TruthCone {
+  Eigen::Vector2d peak_px, base_px;  // distorted pixels
+};
+
+struct SimFrame {
+  rig_sim::CameraConfig camera;
+  rig_sim::TruePose pose;
+  std::vector<uint8_t> rgb;
+  std::vector<TruthCone> truth;  // one per scene cone, in scene order
+};
+
+// camera_optical at eye_m looking at target_m, z up in `cones`.
+rig_sim::TruePose LookAt(const Eigen::Vector3d& eye_m, const Eigen::Vector3d& target_m);
+SimFrame RenderSim(const rig_sim::Scene& scene, const rig_sim::TruePose& pose,
+                   const rig_sim::CameraConfig& camera = rig_sim::CameraConfig(), double noise_sigma_dn = 2.0);
+CameraModel ToCameraModel(const rig_sim::CameraConfig& c);
+
+}  // namespace cone_tracker

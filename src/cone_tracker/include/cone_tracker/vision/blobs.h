@@ -1,0 +1,62 @@
+// 8-connected components of a binary image and their region properties
+// (3.1.5.2), labelled on horizontal runs so the cost scales with the blob
+// outlines rather than the pixel count. ROS-free.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace cone_tracker {
+
+struct Run {
+  int y, x0, x1;  // inclusive
+};
+
+// Raw sums over a blob's pixels (pixel centres at integer coordinates).
+struct Moments {
+  double n = 0, sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
+  void Add(const Run& r);
+  void Add(const Moments& m);
+};
+
+struct Blob {
+  std::vector<Run> runs;
+  Moments m;
+  int fragments = 1;    // > 1 after merging pieces split by white collars
+  double hull_area = 0;  // sum over fragments of their convex hull area (pixel corners)
+  // Region properties (regionprops semantics).
+  double area = 0, solidity = 0;
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  double major_px = 0, minor_px = 0;
+  double orientation_rad = 0;  // of the major axis against +u, image axes (v down), in (-pi/2, pi/2]
+  double axis_ratio = 0;
+  int bbox_x = 0, bbox_y = 0, bbox_w = 0, bbox_h = 0;
+};
+
+// Binary image view: nonzero = cone pixel.
+struct MaskView {
+  const uint8_t* data = nullptr;
+  int width = 0, height = 0, step = 0;
+  bool At(int x, int y) const {
+    return x >= 0 && y >= 0 && x < width && y < height && data[size_t(y) * step + x] != 0;
+  }
+};
+
+// Connected components of the mask restricted to [x0, x1) x [y0, y1); blobs
+// smaller than min_area_px are dropped (artifacts). Properties are filled.
+std::vector<Blob> FindBlobs(const MaskView& mask, int x0, int y0, int x1, int y1, int min_area_px);
+
+// Fills area, centroid, axes, orientation, ratio, bbox from runs/moments/hull_area.
+void ComputeProperties(Blob* blob);
+// Convex hull area of a set of runs, using pixel corners.
+double HullArea(const std::vector<Run>& runs);
+
+// Merges blobs that lie along one cone's major axis (fragments separated by
+// white collars): a smaller blob joins a larger one when its centroid is
+// within lateral_frac * major of the larger's axis and the gap along the axis
+// is below gap_frac * major.
+void MergeAlongAxes(std::vector<Blob>* blobs, double lateral_frac, double gap_frac);
+
+}  // namespace cone_tracker

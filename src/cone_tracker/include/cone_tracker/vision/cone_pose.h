@@ -1,0 +1,69 @@
+// From cone detections to a pose (3.1.4, 3.1.6, 6.4): model point correction,
+// correspondence against a predicted pose (or a search over assignments with
+// the linear algorithms when there is none), the single-frame pose through
+// SolvePnp's `best`, and the outlier gates. ROS-free.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cone_tracker/pose/pnp.h"
+#include "cone_tracker/vision/segmenter.h"
+
+namespace cone_tracker {
+
+struct ConeModel {
+  Eigen::Vector3d base_m = Eigen::Vector3d::Zero();  // centre of the base circle in `cones`
+  double height_m = 0.71;
+  double tau = 1.0 / 7.0;  // radius / height (3.1.4)
+};
+
+// Peak, mid and base model points (3.12) moved to the cone's surface on the
+// side facing the centre of projection (3.1.4): the silhouette's mid and base
+// points lie on the front of the cone, radius tau * (height above) off its axis.
+std::array<Eigen::Vector3d, 3> CorrectedModelPoints(const ConeModel& cone, const Eigen::Vector3d& p_camera_in_cones_m);
+
+// True when some rotation about z maps the layout onto itself with the cones
+// permuted (the equilateral layout's 120 degrees): identical cones cannot tell
+// those poses apart without a prediction or a heading prior.
+bool LayoutHasRotationalSymmetry(const std::vector<ConeModel>& cones);
+
+struct ConePoseConfig {
+  double sigma_px = 1.0;               // image noise of the peak/mid/base points (PnpOptions::sigma_px)
+  double max_assignment_px = 30.0;     // 3.1.6: a cone farther than this from its prediction is not matched
+  double chi2_probability = 0.999;     // 6.4.1: residual gate at this probability
+  double max_translation_change_m = 0.5;   // 6.4.2: against the prediction
+  double max_rotation_change_deg = 30.0;   // 6.4.2
+  // Without a prediction: the camera's heading around the layout (atan2 of its
+  // position's y, x in `cones`), to pick among symmetric solutions. NaN: none.
+  double initial_heading_rad = NAN;
+  std::string Validate() const;
+};
+
+enum PoseGateBits : uint32_t {
+  kPoseTooFewCones = 1u << 0,  // fewer than 3 cones matched
+  kPoseSolverFailed = 1u << 1,
+  kPoseChi2 = 1u << 2,      // 6.4.1
+  kPoseMotion = 1u << 3,    // 6.4.2
+};
+
+struct ConePoseResult {
+  bool ok = false;
+  uint32_t rejected_by = 0;
+  std::string error;
+  std::vector<int> cone_of_detection;  // model cone index per detection, -1 unmatched
+  PnpResult pnp;                       // T_camera_model = T_camera_cones with its covariance
+  double chi2 = 0.0, chi2_threshold = 0.0;
+};
+
+ConePoseResult EstimateConePose(const std::vector<ConeDetection>& detections, const std::vector<ConeModel>& cones,
+                                const CameraModel& camera, const ConePoseConfig& config,
+                                const std::optional<pose_math::Pose>& predicted_T_camera_cones);
+
+}  // namespace cone_tracker

@@ -1,0 +1,108 @@
+// Cone segmentation (3.1.5): colour classification through the RGB table,
+// ROI from a two-level pyramid, 8-connected blobs, merging of collar-split
+// fragments, gates with border rejection, peak/base line search, and
+// undistortion of the image points (3.1.2). ROS-free.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cone_tracker/pose/pnp.h"
+#include "cone_tracker/vision/blobs.h"
+#include "cone_tracker/vision/color_lut.h"
+
+namespace cone_tracker {
+
+struct SegmenterConfig {
+  HsiBounds hsi;
+  int pyramid_levels = 2;         // 3.1.5.2: down-sample twice
+  int roi_margin_px = 8;          // full-resolution margin around the pyramid ROI
+  int min_fragment_area_px = 4;   // smaller blobs are artifacts, dropped before merging
+  double merge_lateral_frac = 0.25;
+  double merge_gap_frac = 0.5;
+  // Gates (3.1.5.3).
+  double min_area_px = 30.0;
+  double max_area_px = 200000.0;
+  int border_px = 4;              // centroid within this of the edge, or blob touching it: rejected
+  double min_solidity = 0.75;
+  double max_solidity = 1.0;
+  double min_axis_ratio = 1.3;
+  double max_axis_ratio = 8.0;
+  // Not in the thesis: cones stand upright and the rig is held roughly level,
+  // so a blob whose major axis is far from the image vertical (stripes of a
+  // hi-vis vest, a box's side) is not a cone.
+  double max_tilt_deg = 50.0;
+  int line_search_misses = 3;     // consecutive non-cone pixels ending the line search
+
+  std::string Validate() const;
+};
+
+// Gate outcomes, one bit per failed gate.
+enum GateBits : uint32_t {
+  kGateArea = 1u << 0,
+  kGateBorder = 1u << 1,
+  kGateSolidity = 1u << 2,
+  kGateAxisRatio = 1u << 3,
+  kGateLineSearch = 1u << 4,
+  kGateUndistort = 1u << 5,
+  kGateTilt = 1u << 6,
+};
+
+struct ConeDetection {
+  Blob blob;  // runs are cleared in the output to keep it small
+  uint32_t failed_gates = 0;
+  // Raw (distorted) pixels and undistorted pixels (3.1.2), same intrinsics.
+  Eigen::Vector2d peak_px = Eigen::Vector2d::Zero(), mid_px = Eigen::Vector2d::Zero(),
+                  base_px = Eigen::Vector2d::Zero();
+  Eigen::Vector2d peak_undist_px = Eigen::Vector2d::Zero(), mid_undist_px = Eigen::Vector2d::Zero(),
+                  base_undist_px = Eigen::Vector2d::Zero();
+  bool accepted() const { return failed_gates == 0; }
+};
+
+// An image in memory; not owned. encoding uses sensor_msgs names.
+struct ImageView {
+  const uint8_t* data = nullptr;
+  int width = 0, height = 0, step = 0;
+  std::string encoding;
+};
+
+struct SegmentationResult {
+  bool ok = false;
+  std::string error;                    // why ok is false (bad encoding, empty image)
+  std::vector<ConeDetection> cones;     // accepted, sorted by u of the peak
+  std::vector<ConeDetection> rejected;  // with failed_gates set
+  int roi_x = 0, roi_y = 0, roi_w = 0, roi_h = 0;
+};
+
+class Segmenter {
+ public:
+  // Throws std::invalid_argument naming the field on a bad config.
+  explicit Segmenter(const SegmenterConfig& config);
+  // Rebuilds the colour table only when the HSI bounds changed.
+  void SetConfig(const SegmenterConfig& config);
+  const SegmenterConfig& config() const { return config_; }
+
+  static bool SupportedEncoding(const std::string& encoding);
+  // camera: intrinsics for undistortion; all-zero fx gives undistorted = raw.
+  SegmentationResult Process(const ImageView& image, const CameraModel& camera);
+
+  // The binary mask of the last Process() (valid inside the ROI only).
+  const std::vector<uint8_t>& mask() const { return mask_; }
+
+ private:
+  bool Classify(const ImageView& image, SegmentationResult* result);
+  void Measure(const MaskView& mask, ConeDetection* det) const;
+
+  SegmenterConfig config_;
+  ColorLut lut_;
+  std::vector<uint8_t> rgb_;   // debayered frame (bayer input only)
+  std::vector<uint8_t> mask_;  // full-size, zero outside the ROI
+};
+
+// Undistorts pixel points in place to ideal pinhole pixels with the same K (3.1.2).
+bool UndistortPixels(const CameraModel& camera, std::vector<Eigen::Vector2d>* points_px);
+
+}  // namespace cone_tracker

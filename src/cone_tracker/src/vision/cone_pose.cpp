@@ -1,0 +1,222 @@
+#include "cone_tracker/vision/cone_pose.h"
+
+#include <algorithm>
+#include <functional>
+#include <numeric>
+
+#include <Eigen/Geometry>
+
+#include <boost/math/distributions/chi_squared.hpp>
+
+#include "pose_math/rotation.h"
+
+namespace cone_tracker {
+
+namespace {
+
+using Assignment = std::vector<int>;  // model cone per detection, -1 none
+
+Eigen::Vector3d CameraInCones(const pose_math::Pose& T_camera_cones) {
+  return -(pose_math::RotationFromQuat(T_camera_cones.q).transpose() * T_camera_cones.t);
+}
+
+bool Project(const pose_math::Pose& T_camera_cones, const CameraModel& cam, const Eigen::Vector3d& p_cones,
+             Eigen::Vector2d* uv) {
+  const Eigen::Vector3d p = pose_math::RotationFromQuat(T_camera_cones.q) * p_cones + T_camera_cones.t;
+  if (!(p.z() > 1e-6)) return false;
+  *uv = Eigen::Vector2d(cam.fx_px * p.x() / p.z() + cam.cx_px, cam.fy_px * p.y() / p.z() + cam.cy_px);
+  return true;
+}
+
+// 3.1.6 with a prediction: enumerate the assignments of detections to model
+// cones and keep the cheapest; a pair farther than the gate cannot match.
+Assignment AssignByPrediction(const std::vector<ConeDetection>& dets, const std::vector<ConeModel>& cones,
+                              const CameraModel& cam, const ConePoseConfig& cfg, const pose_math::Pose& T_pred) {
+  const Eigen::Vector3d eye = CameraInCones(T_pred);
+  const double gate2 = cfg.max_assignment_px * cfg.max_assignment_px;
+  // cost[d][c]: mean squared pixel distance of peak and base, or +inf.
+  std::vector<std::vector<double>> cost(dets.size(), std::vector<double>(cones.size(), INFINITY));
+  for (size_t c = 0; c < cones.size(); ++c) {
+    const auto pts = CorrectedModelPoints(cones[c], eye);
+    Eigen::Vector2d peak, base;
+    if (!Project(T_pred, cam, pts[0], &peak) || !Project(T_pred, cam, pts[2], &base)) continue;
+    for (size_t d = 0; d < dets.size(); ++d) {
+      const double e = 0.5 * ((dets[d].peak_undist_px - peak).squaredNorm() + (dets[d].base_undist_px - base).squaredNorm());
+      if (e < gate2) cost[d][c] = e;
+    }
+  }
+  Assignment best(dets.size(), -1), cur(dets.size(), -1);
+  double best_cost = INFINITY;
+  std::vector<bool> used(cones.size(), false);
+  // Unmatched detections cost the gate, so more matches win when they fit.
+  std::function<void(size_t, double)> search = [&](size_t d, double sum) {
+    if (sum >= best_cost) return;
+    if (d == dets.size()) {
+      best_cost = sum, best = cur;
+      return;
+    }
+    for (size_t c = 0; c < cones.size(); ++c) {
+      if (used[c] || !std::isfinite(cost[d][c])) continue;
+      used[c] = true, cur[d] = int(c);
+      search(d + 1, sum + cost[d][c]);
+      used[c] = false, cur[d] = -1;
+    }
+    search(d + 1, sum + gate2);
+  };
+  search(0, 0.0);
+  return best;
+}
+
+// All injective assignments of up to n detections to the model cones with
+// at least three matches (no prediction).
+void EnumerateFull(size_t d, size_t n_dets, size_t n_cones, Assignment* cur, std::vector<bool>* used,
+                   std::vector<Assignment>* out) {
+  if (d == n_dets) {
+    if (std::count_if(cur->begin(), cur->end(), [](int c) { return c >= 0; }) >= 3) out->push_back(*cur);
+    return;
+  }
+  for (size_t c = 0; c < n_cones; ++c) {
+    if ((*used)[c]) continue;
+    (*used)[c] = true, (*cur)[d] = int(c);
+    EnumerateFull(d + 1, n_dets, n_cones, cur, used, out);
+    (*used)[c] = false, (*cur)[d] = -1;
+  }
+  if (n_dets > 3) EnumerateFull(d + 1, n_dets, n_cones, cur, used, out);  // a distractor
+}
+
+PnpResult Solve(const std::vector<ConeDetection>& dets, const std::vector<ConeModel>& cones, const Assignment& a,
+                const CameraModel& cam, const ConePoseConfig& cfg, const std::optional<pose_math::Pose>& initial,
+                const Eigen::Vector3d& eye) {
+  std::vector<Eigen::Vector3d> model;
+  std::vector<Eigen::Vector2d> image;
+  for (size_t d = 0; d < dets.size(); ++d) {
+    if (a[d] < 0) continue;
+    const auto pts = CorrectedModelPoints(cones[size_t(a[d])], eye);
+    model.insert(model.end(), pts.begin(), pts.end());
+    image.push_back(dets[d].peak_undist_px), image.push_back(dets[d].mid_undist_px), image.push_back(dets[d].base_undist_px);
+  }
+  CameraModel pinhole = cam;  // detections are undistorted already (3.1.2)
+  pinhole.distortion.clear();
+  PnpOptions opt;
+  opt.sigma_px = cfg.sigma_px;
+  PnpResult r = SolvePnp(pinhole, model, image, opt, initial);
+  if (!r.ok || initial) return r;
+  // No prediction: the surface points depend on where the camera is, so
+  // correct them again from the first solution and solve once more (3.1.4).
+  return Solve(dets, cones, a, cam, cfg, r.T_camera_model, CameraInCones(r.T_camera_model));
+}
+
+}  // namespace
+
+std::array<Eigen::Vector3d, 3> CorrectedModelPoints(const ConeModel& cone, const Eigen::Vector3d& eye) {
+  Eigen::Vector3d toward = eye - cone.base_m;
+  toward.z() = 0.0;
+  const double n = toward.norm();
+  toward = n > 1e-9 ? Eigen::Vector3d(toward / n) : Eigen::Vector3d::Zero();
+  const double r = cone.tau * cone.height_m;
+  const Eigen::Vector3d up(0, 0, cone.height_m);
+  return {cone.base_m + up, cone.base_m + 0.5 * up + 0.5 * r * toward, cone.base_m + r * toward};  // (3.1.4)
+}
+
+bool LayoutHasRotationalSymmetry(const std::vector<ConeModel>& cones) {
+  const size_t n = cones.size();
+  if (n < 2 || n > 8) return false;
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (const ConeModel& c : cones) centroid += c.base_m.head<2>() / double(n);
+  std::vector<int> perm(n);
+  std::iota(perm.begin(), perm.end(), 0);
+  while (std::next_permutation(perm.begin(), perm.end())) {
+    double cross = 0.0, dot = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+      const Eigen::Vector2d a = cones[i].base_m.head<2>() - centroid, b = cones[size_t(perm[i])].base_m.head<2>() - centroid;
+      cross += a.x() * b.y() - a.y() * b.x(), dot += a.dot(b);
+    }
+    const double th = std::atan2(cross, dot);
+    const Eigen::Matrix2d R = Eigen::Rotation2Dd(th).toRotationMatrix();
+    bool same = true;
+    for (size_t i = 0; i < n && same; ++i) {
+      const ConeModel &a = cones[i], &b = cones[size_t(perm[i])];
+      same = (R * (a.base_m.head<2>() - centroid) - (b.base_m.head<2>() - centroid)).norm() < 1e-3 &&
+             std::abs(a.base_m.z() - b.base_m.z()) < 1e-3 && std::abs(a.height_m - b.height_m) < 1e-3;
+    }
+    if (same) return true;
+  }
+  return false;
+}
+
+std::string ConePoseConfig::Validate() const {
+  if (!(sigma_px > 0.0)) return "sigma_px must be > 0";
+  if (!(max_assignment_px > 0.0)) return "max_assignment_px must be > 0";
+  if (!(chi2_probability > 0.0 && chi2_probability < 1.0)) return "chi2_probability must be in (0, 1)";
+  if (!(max_translation_change_m > 0.0)) return "max_translation_change_m must be > 0";
+  if (!(max_rotation_change_deg > 0.0)) return "max_rotation_change_deg must be > 0";
+  return "";
+}
+
+ConePoseResult EstimateConePose(const std::vector<ConeDetection>& dets, const std::vector<ConeModel>& cones,
+                                const CameraModel& cam, const ConePoseConfig& cfg,
+                                const std::optional<pose_math::Pose>& T_pred) {
+  ConePoseResult out;
+  out.cone_of_detection.assign(dets.size(), -1);
+  if (dets.size() < 3 || cones.size() < 3) {
+    out.rejected_by = kPoseTooFewCones;
+    out.error = "fewer than 3 cones detected";
+    return out;
+  }
+  if (T_pred) {
+    const Assignment a = AssignByPrediction(dets, cones, cam, cfg, *T_pred);
+    if (std::count_if(a.begin(), a.end(), [](int c) { return c >= 0; }) < 3) {
+      out.rejected_by = kPoseTooFewCones;
+      out.error = "fewer than 3 cones match the prediction";
+      return out;
+    }
+    out.cone_of_detection = a;
+    out.pnp = Solve(dets, cones, a, cam, cfg, T_pred, CameraInCones(*T_pred));
+  } else {
+    if (dets.size() > 8) {
+      out.rejected_by = kPoseTooFewCones;
+      out.error = "too many detections to search without a prediction";
+      return out;
+    }
+    std::vector<Assignment> all;
+    Assignment cur(dets.size(), -1);
+    std::vector<bool> used(cones.size(), false);
+    EnumerateFull(0, dets.size(), cones.size(), &cur, &used, &all);
+    // Most matches first, then the lowest residual; near-ties (symmetric
+    // layouts) go to the heading prior when there is one.
+    double best_score = INFINITY;
+    for (const Assignment& a : all) {
+      const PnpResult r = Solve(dets, cones, a, cam, cfg, std::nullopt, Eigen::Vector3d::Zero());
+      if (!r.ok) continue;
+      const int matched = int(std::count_if(a.begin(), a.end(), [](int c) { return c >= 0; }));
+      double score = r.reproj_rms_px - 100.0 * matched;
+      if (std::isfinite(cfg.initial_heading_rad)) {
+        const Eigen::Vector3d eye = CameraInCones(r.T_camera_model);
+        const double dh = std::remainder(std::atan2(eye.y(), eye.x()) - cfg.initial_heading_rad, 2.0 * M_PI);
+        score += 0.5 * std::abs(dh);  // breaks ties of equal residual only
+      }
+      if (score < best_score) best_score = score, out.pnp = r, out.cone_of_detection = a;
+    }
+  }
+  if (!out.pnp.ok) {
+    out.rejected_by |= kPoseSolverFailed;
+    out.error = "pose solver failed: " + out.pnp.error;
+    return out;
+  }
+  // 6.4.1: the squared image residual against chi-square with 2N - 6 dof.
+  const int dof = int(out.pnp.residuals_px.size()) * 2 - 6;
+  for (const Eigen::Vector2d& r : out.pnp.residuals_px) out.chi2 += r.squaredNorm() / (cfg.sigma_px * cfg.sigma_px);
+  out.chi2_threshold = dof > 0 ? boost::math::quantile(boost::math::chi_squared(dof), cfg.chi2_probability) : INFINITY;
+  if (out.chi2 > out.chi2_threshold) out.rejected_by |= kPoseChi2;
+  // 6.4.2: the change against the prediction.
+  if (T_pred) {
+    const double dt = (CameraInCones(out.pnp.T_camera_model) - CameraInCones(*T_pred)).norm();
+    const double dr = pose_math::RotationErrorRad(out.pnp.T_camera_model, *T_pred) * 180.0 / M_PI;
+    if (dt > cfg.max_translation_change_m || dr > cfg.max_rotation_change_deg) out.rejected_by |= kPoseMotion;
+  }
+  out.ok = out.rejected_by == 0;
+  if (!out.ok) out.error = "rejected by a gate";
+  return out;
+}
+
+}  // namespace cone_tracker

@@ -1,0 +1,245 @@
+#include "cone_tracker/vision/segmenter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace cone_tracker {
+
+namespace {
+
+// OpenCV names Bayer patterns by the second row's first two pixels; these are
+// the pairs cv_bridge uses for the sensor_msgs encodings.
+int BayerCode(const std::string& e) {
+  if (e == "bayer_rggb8") return cv::COLOR_BayerBG2RGB;
+  if (e == "bayer_bggr8") return cv::COLOR_BayerRG2RGB;
+  if (e == "bayer_gbrg8") return cv::COLOR_BayerGR2RGB;
+  if (e == "bayer_grbg8") return cv::COLOR_BayerGB2RGB;
+  return -1;
+}
+
+// Refinement of the line search's peak (in place of 3.1.5.4's nine
+// correlated templates, which fit a triangle at 3-pixel steps): the cone's
+// outline edges are straight, so the blob's extent across the axis falls
+// linearly to zero at the apex, whatever the collars do inside the outline.
+// Least-squares lines through the extent profile of the peak side, and
+// through its centre line, give the apex to a fraction of a pixel; the
+// binary tip alone ends ~2-3 px short, where the silhouette gets narrower
+// than a pixel.
+// Returns false when the extent does not taper to the line search's end;
+// *peak is the search's end then.
+bool RefinePeak(const Blob& b, const Eigen::Vector2d& dir, double reach, Eigen::Vector2d* peak) {
+  *peak = b.centroid + reach * dir;
+  const int bins = int(std::ceil(reach)) + 2;
+  if (bins < 8) return true;  // too small to judge the shape
+  std::vector<double> lo(size_t(bins), INFINITY), hi(size_t(bins), -INFINITY);
+  for (const Run& r : b.runs)
+    for (int x : {r.x0, r.x1}) {  // a run's ends carry its extent
+      const Eigen::Vector2d d = Eigen::Vector2d(x, r.y) - b.centroid;
+      const double t = d.dot(dir);
+      if (t < 0.0 || t >= bins) continue;
+      const double s = d.x() * dir.y() - d.y() * dir.x();
+      lo[size_t(t)] = std::min(lo[size_t(t)], s), hi[size_t(t)] = std::max(hi[size_t(t)], s);
+    }
+  double n = 0, st = 0, stt = 0, sw = 0, stw = 0, ss = 0, sts = 0;
+  for (int i = int(0.3 * reach); i < bins; ++i) {
+    const double w = hi[size_t(i)] - lo[size_t(i)] + 1.0;
+    if (!(w >= 3.0)) continue;  // collar gaps, and the last pixels where the tip is binary
+    const double t = i + 0.5, s = 0.5 * (hi[size_t(i)] + lo[size_t(i)]);
+    n += 1, st += t, stt += t * t, sw += w, stw += t * w, ss += s, sts += t * s;
+  }
+  const double det = n * stt - st * st;
+  if (n < 4 || det <= 0.0) return true;
+  const double slope = (n * stw - st * sw) / det, icpt = (sw - slope * st) / n;
+  if (!(slope < 0.0)) return false;
+  const double t0 = -icpt / slope;
+  if (!(t0 > 0.7 * reach && t0 < reach + 6.0)) return false;  // no apex near the search's end
+  const double s_slope = (n * sts - st * ss) / det, s0 = (ss - s_slope * st) / n + s_slope * t0;
+  *peak = b.centroid + t0 * dir + s0 * Eigen::Vector2d(dir.y(), -dir.x());
+  return true;
+}
+
+}  // namespace
+
+std::string SegmenterConfig::Validate() const {
+  const std::string hsi_error = hsi.Validate();
+  if (!hsi_error.empty()) return hsi_error;
+  if (pyramid_levels < 0 || pyramid_levels > 4) return "pyramid_levels must be in [0, 4]";
+  if (roi_margin_px < 0) return "roi_margin_px must be >= 0";
+  if (min_fragment_area_px < 1) return "min_fragment_area_px must be >= 1";
+  if (!(merge_lateral_frac >= 0.0) || !(merge_gap_frac >= 0.0)) return "merge fractions must be >= 0";
+  if (!(min_area_px >= 0.0) || !(max_area_px >= min_area_px)) return "area bounds must satisfy 0 <= min <= max";
+  if (border_px < 0) return "border_px must be >= 0";
+  if (!(min_solidity >= 0.0) || !(max_solidity >= min_solidity)) return "solidity bounds invalid";
+  if (!(min_axis_ratio >= 1.0) || !(max_axis_ratio >= min_axis_ratio)) return "axis ratio bounds invalid";
+  if (!(max_tilt_deg >= 0.0 && max_tilt_deg <= 90.0)) return "max_tilt_deg must be in [0, 90]";
+  if (line_search_misses < 1) return "line_search_misses must be >= 1";
+  return "";
+}
+
+Segmenter::Segmenter(const SegmenterConfig& config) { SetConfig(config); }
+
+void Segmenter::SetConfig(const SegmenterConfig& config) {
+  const std::string error = config.Validate();
+  if (!error.empty()) throw std::invalid_argument("SegmenterConfig: " + error);
+  lut_.Build(config.hsi);
+  config_ = config;
+}
+
+bool Segmenter::SupportedEncoding(const std::string& e) {
+  return e == "rgb8" || e == "bgr8" || BayerCode(e) >= 0;
+}
+
+bool Segmenter::Classify(const ImageView& in, SegmentationResult* out) {
+  if (!in.data || in.width <= 0 || in.height <= 0) {
+    out->error = "empty image";
+    return false;
+  }
+  if (!SupportedEncoding(in.encoding)) {
+    out->error = "unsupported encoding '" + in.encoding + "' (rgb8, bgr8 and bayer_*8 are supported)";
+    return false;
+  }
+  const uint8_t* rgb = in.data;
+  int step = in.step;
+  int r_off = 0, b_off = 2;
+  if (in.encoding == "bgr8") std::swap(r_off, b_off);
+  const int bayer = BayerCode(in.encoding);
+  if (bayer >= 0) {
+    if (in.step < in.width) {
+      out->error = "bayer image step smaller than its width";
+      return false;
+    }
+    rgb_.resize(size_t(in.width) * in.height * 3);
+    const cv::Mat raw(in.height, in.width, CV_8UC1, const_cast<uint8_t*>(in.data), size_t(in.step));
+    cv::Mat dst(in.height, in.width, CV_8UC3, rgb_.data());
+    cv::cvtColor(raw, dst, bayer);
+    rgb = rgb_.data(), step = in.width * 3;
+  } else if (in.step < in.width * 3) {
+    out->error = "image step smaller than 3 * width";
+    return false;
+  }
+  const int w = in.width, h = in.height;
+  auto is_cone = [&](int x, int y) {
+    const uint8_t* p = rgb + size_t(y) * step + 3 * x;
+    return lut_.IsCone(p[r_off], p[1], p[b_off]);
+  };
+  // ROI (3.1.5.2): classify the image down-sampled twice (odd rows and
+  // columns kept), take the rectangle around its cone pixels.
+  const int s = 1 << config_.pyramid_levels;
+  int x_lo = w, x_hi = -1, y_lo = h, y_hi = -1;
+  for (int y = s - 1; y < h; y += s)
+    for (int x = s - 1; x < w; x += s)
+      if (is_cone(x, y)) x_lo = std::min(x_lo, x), x_hi = std::max(x_hi, x), y_lo = std::min(y_lo, y), y_hi = y;
+  mask_.assign(size_t(w) * h, 0);
+  if (x_hi < 0) return true;
+  const int pad = s + config_.roi_margin_px;
+  out->roi_x = std::max(0, x_lo - pad), out->roi_y = std::max(0, y_lo - pad);
+  out->roi_w = std::min(w, x_hi + pad + 1) - out->roi_x, out->roi_h = std::min(h, y_hi + pad + 1) - out->roi_y;
+  for (int y = out->roi_y; y < out->roi_y + out->roi_h; ++y) {
+    uint8_t* m = mask_.data() + size_t(y) * w;
+    for (int x = out->roi_x; x < out->roi_x + out->roi_w; ++x) m[x] = is_cone(x, y);
+  }
+  return true;
+}
+
+void Segmenter::Measure(const MaskView& mask, ConeDetection* det) const {
+  const Blob& b = det->blob;
+  const Eigen::Vector2d axis(std::cos(b.orientation_rad), std::sin(b.orientation_rad));
+  // Extent of the blob along its axis; a merged blob's line search may cross
+  // the collar gaps up to there.
+  double extent[2] = {0.0, 0.0};
+  for (const Run& r : b.runs)
+    for (int x : {r.x0, r.x1}) {
+      const double t = (Eigen::Vector2d(x, r.y) - b.centroid).dot(axis);
+      extent[0] = std::max(extent[0], t), extent[1] = std::max(extent[1], -t);
+    }
+  double reach[2];
+  for (int side = 0; side < 2; ++side) {
+    const Eigen::Vector2d dir = side == 0 ? axis : Eigen::Vector2d(-axis);
+    int last_hit = 0, misses = 0;
+    const int limit = int(extent[side]) + config_.line_search_misses + 2;
+    for (int t = 1; t <= limit; ++t) {
+      const Eigen::Vector2d p = b.centroid + t * dir;
+      if (mask.At(int(std::lround(p.x())), int(std::lround(p.y())))) {
+        last_hit = t, misses = 0;
+      } else if (++misses >= config_.line_search_misses && (b.fragments == 1 || t > extent[side])) {
+        break;
+      }
+    }
+    reach[side] = last_hit + 0.5;  // the silhouette ends half a pixel past the last cone pixel centre
+  }
+  if (std::min(reach[0], reach[1]) < 1.5) det->failed_gates |= kGateLineSearch;
+  // A cone's centroid lies nearer its base (a third of the height for a triangle).
+  const int peak_side = reach[0] >= reach[1] ? 0 : 1;
+  const Eigen::Vector2d dir_peak = peak_side == 0 ? axis : Eigen::Vector2d(-axis);
+  // A failed fit keeps the line search's end (no gate on it: the extent
+  // profile of collared cones is not yet clean enough to reject on).
+  RefinePeak(b, dir_peak, reach[peak_side], &det->peak_px);
+  det->base_px = b.centroid - reach[1 - peak_side] * dir_peak;
+  det->mid_px = 0.5 * (det->peak_px + det->base_px);
+}
+
+SegmentationResult Segmenter::Process(const ImageView& image, const CameraModel& camera) {
+  SegmentationResult result;
+  if (!Classify(image, &result)) return result;
+  result.ok = true;
+  if (result.roi_w <= 0) return result;
+  const MaskView mask{mask_.data(), image.width, image.height, image.width};
+  std::vector<Blob> blobs = FindBlobs(mask, result.roi_x, result.roi_y, result.roi_x + result.roi_w,
+                                      result.roi_y + result.roi_h, config_.min_fragment_area_px);
+  MergeAlongAxes(&blobs, config_.merge_lateral_frac, config_.merge_gap_frac);
+  const SegmenterConfig& c = config_;
+  for (Blob& b : blobs) {
+    ConeDetection det;
+    det.blob = std::move(b);
+    const Blob& d = det.blob;
+    if (d.area < c.min_area_px || d.area > c.max_area_px) det.failed_gates |= kGateArea;
+    const int bp = c.border_px;
+    if (d.bbox_x <= bp || d.bbox_y <= bp || d.bbox_x + d.bbox_w >= image.width - bp ||
+        d.bbox_y + d.bbox_h >= image.height - bp)
+      det.failed_gates |= kGateBorder;  // part of the cone may be outside the image
+    if (d.solidity < c.min_solidity || d.solidity > c.max_solidity) det.failed_gates |= kGateSolidity;
+    if (d.axis_ratio < c.min_axis_ratio || d.axis_ratio > c.max_axis_ratio) det.failed_gates |= kGateAxisRatio;
+    if (std::abs(std::cos(d.orientation_rad)) > std::sin(c.max_tilt_deg * M_PI / 180.0))
+      det.failed_gates |= kGateTilt;  // |angle from vertical| > max_tilt
+    if (det.failed_gates == 0) Measure(mask, &det);
+    if (det.failed_gates == 0) {
+      std::vector<Eigen::Vector2d> pts = {det.peak_px, det.mid_px, det.base_px};
+      if (UndistortPixels(camera, &pts))
+        det.peak_undist_px = pts[0], det.mid_undist_px = pts[1], det.base_undist_px = pts[2];
+      else
+        det.failed_gates |= kGateUndistort;
+    }
+    det.blob.runs.clear();
+    det.blob.runs.shrink_to_fit();
+    (det.accepted() ? result.cones : result.rejected).push_back(std::move(det));
+  }
+  std::sort(result.cones.begin(), result.cones.end(),
+            [](const ConeDetection& a, const ConeDetection& b) { return a.peak_px.x() < b.peak_px.x(); });
+  return result;
+}
+
+bool UndistortPixels(const CameraModel& camera, std::vector<Eigen::Vector2d>* points) {
+  bool any_distortion = false;
+  for (double k : camera.distortion) any_distortion |= (k != 0.0);
+  if (!any_distortion || !(camera.fx_px > 0.0) || !(camera.fy_px > 0.0)) return true;
+  const cv::Matx33d K(camera.fx_px, 0, camera.cx_px, 0, camera.fy_px, camera.cy_px, 0, 0, 1);
+  std::vector<cv::Point2d> src, dst;
+  for (const auto& p : *points) src.emplace_back(p.x(), p.y());
+  try {
+    cv::undistortPoints(src, dst, K, camera.distortion, cv::noArray(), K);  // (3.11) iteratively
+  } catch (const cv::Exception&) {
+    return false;
+  }
+  for (size_t i = 0; i < dst.size(); ++i) {
+    if (!std::isfinite(dst[i].x) || !std::isfinite(dst[i].y)) return false;
+    (*points)[i] = Eigen::Vector2d(dst[i].x, dst[i].y);
+  }
+  return true;
+}
+
+}  // namespace cone_tracker

@@ -1,0 +1,104 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "cone_tracker/vision/blobs.h"
+
+namespace cone_tracker {
+namespace {
+
+struct Mask {
+  int w, h;
+  std::vector<uint8_t> px;
+  Mask(int w_, int h_) : w(w_), h(h_), px(size_t(w_) * h_, 0) {}
+  void Set(int x, int y) { px[size_t(y) * w + x] = 1; }
+  MaskView View() const { return {px.data(), w, h, w}; }
+};
+
+// Upright isosceles triangle, apex at (cx, top), base width `base` at y = bottom.
+// Rows in [skip_from, skip_to) and [skip2_from, skip2_to) are left empty (collars).
+void Triangle(Mask* m, double cx, int top, int bottom, double base, int skip_from = -1, int skip_to = -1,
+              int skip2_from = -1, int skip2_to = -1) {
+  for (int y = top; y <= bottom; ++y) {
+    if ((y >= skip_from && y < skip_to) || (y >= skip2_from && y < skip2_to)) continue;
+    const double half = 0.5 * base * (y - top) / double(bottom - top);
+    for (int x = int(std::ceil(cx - half)); x <= int(std::floor(cx + half)); ++x) m->Set(x, y);
+  }
+}
+
+}  // namespace
+
+TEST(Blobs, RectangleProperties) {
+  Mask m(60, 40);
+  for (int y = 10; y < 14; ++y)
+    for (int x = 5; x < 25; ++x) m.Set(x, y);  // 20 x 4
+  const auto blobs = FindBlobs(m.View(), 0, 0, 60, 40, 1);
+  ASSERT_EQ(blobs.size(), 1u);
+  const Blob& b = blobs[0];
+  EXPECT_EQ(b.area, 80);
+  EXPECT_NEAR(b.centroid.x(), 14.5, 1e-12);
+  EXPECT_NEAR(b.centroid.y(), 11.5, 1e-12);
+  // regionprops: the ellipse with the same second moments as a 20x4 box
+  // has axes 20*2/sqrt(3) and 4*2/sqrt(3).
+  EXPECT_NEAR(b.major_px, 40.0 / std::sqrt(3.0), 1e-9);
+  EXPECT_NEAR(b.minor_px, 8.0 / std::sqrt(3.0), 1e-9);
+  EXPECT_NEAR(b.orientation_rad, 0.0, 1e-12);
+  EXPECT_NEAR(b.solidity, 1.0, 1e-6);
+  EXPECT_EQ(b.bbox_x, 5);
+  EXPECT_EQ(b.bbox_w, 20);
+  EXPECT_EQ(b.bbox_h, 4);
+}
+
+TEST(Blobs, DiagonalNeighboursAreOneBlobAndRoiClips) {
+  Mask m(10, 10);
+  m.Set(2, 2), m.Set(3, 3), m.Set(4, 4), m.Set(8, 1), m.Set(0, 9);
+  auto blobs = FindBlobs(m.View(), 0, 0, 10, 10, 1);
+  ASSERT_EQ(blobs.size(), 3u);
+  std::sort(blobs.begin(), blobs.end(), [](const Blob& a, const Blob& b) { return a.area > b.area; });
+  EXPECT_NEAR(blobs[0].orientation_rad, M_PI / 4.0, 1e-9);  // v down: +45 deg
+  blobs = FindBlobs(m.View(), 0, 0, 10, 10, 2);             // artifacts dropped
+  ASSERT_EQ(blobs.size(), 1u);
+  EXPECT_EQ(blobs[0].area, 3);
+  blobs = FindBlobs(m.View(), 3, 0, 10, 5, 1);  // ROI excludes (2, 2)
+  ASSERT_EQ(blobs.size(), 2u);
+  EXPECT_TRUE(FindBlobs(Mask(5, 5).View(), 0, 0, 5, 5, 1).empty());
+}
+
+TEST(Blobs, ConcaveShapeHasLowSolidity) {
+  Mask m(40, 40);
+  for (int i = 5; i < 35; ++i) m.Set(i, 5), m.Set(5, i);  // an L of thin lines
+  const auto blobs = FindBlobs(m.View(), 0, 0, 40, 40, 1);
+  ASSERT_EQ(blobs.size(), 1u);
+  EXPECT_LT(blobs[0].solidity, 0.2);
+}
+
+TEST(Blobs, CollarFragmentsMergeAlongTheAxisButSideBySideConesDoNot) {
+  Mask m(200, 200);
+  // A cone 100 px tall split by two collars (0.42-0.55 and 0.62-0.80 of the
+  // height above the base, as the road cones), and an unsplit cone beside it.
+  Triangle(&m, 50, 50, 150, 28, 50 + 20, 50 + 38, 50 + 45, 50 + 58);
+  Triangle(&m, 120, 50, 150, 28);
+  auto blobs = FindBlobs(m.View(), 0, 0, 200, 200, 4);
+  ASSERT_EQ(blobs.size(), 4u);
+  MergeAlongAxes(&blobs, 0.25, 0.5);
+  ASSERT_EQ(blobs.size(), 2u);
+  for (const Blob& b : blobs) {
+    EXPECT_NEAR(std::abs(b.orientation_rad), M_PI / 2.0, 0.02);
+    EXPECT_EQ(b.bbox_h, 101);
+  }
+  EXPECT_EQ(blobs[0].fragments + blobs[1].fragments, 4);
+}
+
+TEST(Blobs, ConeStandingBehindAnotherIsNotMerged) {
+  Mask m(200, 260);
+  Triangle(&m, 60, 130, 230, 28);  // near cone
+  Triangle(&m, 60, 40, 110, 20);   // far cone, seen just above the near one's peak
+  auto blobs = FindBlobs(m.View(), 0, 0, 200, 260, 4);
+  ASSERT_EQ(blobs.size(), 2u);
+  MergeAlongAxes(&blobs, 0.25, 0.5);
+  EXPECT_EQ(blobs.size(), 2u);
+}
+
+}  // namespace cone_tracker
