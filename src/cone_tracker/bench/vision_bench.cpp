@@ -38,8 +38,8 @@ int main() {
   std::vector<SimFrame> frames;
   for (int i = 0; i < 8; ++i) {
     const double az = 0.2 + 0.25 * i;
-    frames.push_back(RenderSim(scene, LookAt(Eigen::Vector3d(3.3 * std::cos(az), 3.3 * std::sin(az), 1.5),
-                                             Eigen::Vector3d(0, 0, 0.3))));
+    frames.push_back(RenderSim(
+        scene, LookAt(Eigen::Vector3d(3.3 * std::cos(az), 3.3 * std::sin(az), 1.5), Eigen::Vector3d(0, 0, 0.3))));
   }
   const CameraModel cam = ToCameraModel(frames[0].camera);
   const int w = frames[0].camera.width_px, h = frames[0].camera.height_px;

@@ -9,7 +9,7 @@ namespace cone_tracker {
 rig_sim::TruePose LookAt(const Eigen::Vector3d& eye_m, const Eigen::Vector3d& target_m) {
   const Eigen::Vector3d z = (target_m - eye_m).normalized();
   const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();  // right
-  const Eigen::Vector3d y = z.cross(x);                                       // down
+  const Eigen::Vector3d y = z.cross(x);                                      // down
   rig_sim::TruePose p;
   p.R_cones_camera.col(0) = x, p.R_cones_camera.col(1) = y, p.R_cones_camera.col(2) = z;
   p.p_camera_in_cones_m = eye_m;

@@ -43,7 +43,9 @@ Case Make(const rig_sim::Scene& scene, const Eigen::Vector3d& eye, const Eigen::
 }
 
 double PositionErrorM(const pose_math::Pose& a, const pose_math::Pose& b) {
-  auto eye = [](const pose_math::Pose& T) { return Eigen::Vector3d(-(pose_math::RotationFromQuat(T.q).transpose() * T.t)); };
+  auto eye = [](const pose_math::Pose& T) {
+    return Eigen::Vector3d(-(pose_math::RotationFromQuat(T.q).transpose() * T.t));
+  };
   return (eye(a) - eye(b)).norm();
 }
 
@@ -63,7 +65,9 @@ TEST(ConePose, SymmetryOfTheEquilateralLayoutIsDetected) {
   std::string error;
   ASSERT_TRUE(rig_sim::ParseSceneYaml(
       "cones:\n  - {x_m: 1.0, y_m: 0.0, height_m: 0.71}\n  - {x_m: -0.45, y_m: 0.8, height_m: 0.46}\n"
-      "  - {x_m: -0.55, y_m: -0.8, height_m: 0.71}\n", &s, &error)) << error;
+      "  - {x_m: -0.55, y_m: -0.8, height_m: 0.71}\n",
+      &s, &error))
+      << error;
   EXPECT_FALSE(LayoutHasRotationalSymmetry(Models(s)));
 }
 
@@ -72,7 +76,8 @@ TEST(ConePose, WithPredictionMatchesAndRecoversThePose) {
   ASSERT_EQ(c.seg.cones.size(), 3u);
   pose_math::Pose pred = c.truth;
   pred.t += Eigen::Vector3d(0.05, -0.03, 0.08);
-  const ConePoseResult r = EstimateConePose(c.seg.cones, c.models, ToCameraModel(c.frame.camera), ConePoseConfig(), pred);
+  const ConePoseResult r =
+      EstimateConePose(c.seg.cones, c.models, ToCameraModel(c.frame.camera), ConePoseConfig(), pred);
   ASSERT_TRUE(r.ok) << r.error << " chi2 " << r.chi2 << " > " << r.chi2_threshold;
   const double dp = PositionErrorM(r.pnp.T_camera_model, c.truth);
   const double dr = pose_math::RotationErrorRad(r.pnp.T_camera_model, c.truth) * 180.0 / M_PI;
@@ -91,10 +96,12 @@ TEST(ConePose, WithPredictionMatchesAndRecoversThePose) {
 TEST(ConePose, WithoutPredictionAsymmetricLayoutAndGates) {
   rig_sim::Scene s;
   std::string error;
-  ASSERT_TRUE(rig_sim::ParseSceneYaml(
-      "cones:\n  - {x_m: 1.0, y_m: 0.0, height_m: 0.71, style: plain}\n"
-      "  - {x_m: -0.45, y_m: 0.8, height_m: 0.46, style: plain}\n"
-      "  - {x_m: -0.55, y_m: -0.8, height_m: 0.71, style: plain}\n", &s, &error)) << error;
+  ASSERT_TRUE(
+      rig_sim::ParseSceneYaml("cones:\n  - {x_m: 1.0, y_m: 0.0, height_m: 0.71, style: plain}\n"
+                              "  - {x_m: -0.45, y_m: 0.8, height_m: 0.46, style: plain}\n"
+                              "  - {x_m: -0.55, y_m: -0.8, height_m: 0.71, style: plain}\n",
+                              &s, &error))
+      << error;
   const Case c = Make(s, Eigen::Vector3d(0.54, 3.15, 1.5), Eigen::Vector3d(0, 0, 0.3));
   ASSERT_EQ(c.seg.cones.size(), 3u);
   const CameraModel cam = ToCameraModel(c.frame.camera);
@@ -125,7 +132,8 @@ TEST(ConePose, SymmetricLayoutResolvedByTheHeadingPrior) {
   EXPECT_LT(PositionErrorM(r.pnp.T_camera_model, c.truth), 0.05);
   // The prior 120 degrees off picks the rotated, equally good pose: the ambiguity is real.
   cfg.initial_heading_rad += 2.0 * M_PI / 3.0;
-  const ConePoseResult rotated = EstimateConePose(c.seg.cones, c.models, ToCameraModel(c.frame.camera), cfg, std::nullopt);
+  const ConePoseResult rotated =
+      EstimateConePose(c.seg.cones, c.models, ToCameraModel(c.frame.camera), cfg, std::nullopt);
   ASSERT_TRUE(rotated.ok);
   EXPECT_GT(PositionErrorM(rotated.pnp.T_camera_model, c.truth), 1.0);
   EXPECT_NEAR(rotated.pnp.reproj_rms_px, r.pnp.reproj_rms_px, 0.05);

@@ -91,8 +91,8 @@ TEST(Segmenter, BayerAndBgrGiveTheSameCones) {
   const rig_sim::Scene scene = rig_sim::DefaultScene();
   // A view where no cone overlaps another in the image (overlapping orange
   // silhouettes form one blob; not handled).
-  const SimFrame f = RenderSim(scene, LookAt(Eigen::Vector3d(3.2 * std::cos(1.4), 3.2 * std::sin(1.4), 1.5),
-                                             Eigen::Vector3d(0, 0, 0.3)));
+  const SimFrame f = RenderSim(
+      scene, LookAt(Eigen::Vector3d(3.2 * std::cos(1.4), 3.2 * std::sin(1.4), 1.5), Eigen::Vector3d(0, 0, 0.3)));
   Segmenter seg{SegmenterConfig()};
   const CameraModel cam = ToCameraModel(f.camera);
   const SegmentationResult ref = seg.Process(View(f), cam);
@@ -164,8 +164,8 @@ TEST(Segmenter, DistractorsAreRejectedAndConesFound) {
 
 TEST(Segmenter, ConeCutByTheBorderIsRejected) {
   const SimFrame f =
-      RenderSim(rig_sim::DefaultScene(), LookAt(Eigen::Vector3d(3.2 * std::cos(1.4), 3.2 * std::sin(1.4), 1.5),
-                                                Eigen::Vector3d(0, 0, 0.3)));
+      RenderSim(rig_sim::DefaultScene(),
+                LookAt(Eigen::Vector3d(3.2 * std::cos(1.4), 3.2 * std::sin(1.4), 1.5), Eigen::Vector3d(0, 0, 0.3)));
   Segmenter seg{SegmenterConfig()};
   const CameraModel cam = ToCameraModel(f.camera);
   const SegmentationResult full = seg.Process(View(f), cam);

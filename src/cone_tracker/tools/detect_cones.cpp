@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
+#include <yaml-cpp/yaml.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
-#include <yaml-cpp/yaml.h>
 
 #include "cone_tracker/vision/segmenter.h"
 
@@ -80,8 +80,11 @@ int main(int argc, char** argv) {
       if (!r.ok) line["error"] = r.error;
       for (const auto& d : r.cones) {
         const auto& b = d.blob;
-        line["cones"].push_back({{"bbox", {b.bbox_x, b.bbox_y, b.bbox_w, b.bbox_h}}, {"peak", Uv(d.peak_px)},
-                                 {"mid", Uv(d.mid_px)}, {"base", Uv(d.base_px)}, {"area", b.area},
+        line["cones"].push_back({{"bbox", {b.bbox_x, b.bbox_y, b.bbox_w, b.bbox_h}},
+                                 {"peak", Uv(d.peak_px)},
+                                 {"mid", Uv(d.mid_px)},
+                                 {"base", Uv(d.base_px)},
+                                 {"area", b.area},
                                  {"solidity", b.solidity}});
       }
       found += int(r.cones.size());

@@ -22,8 +22,8 @@ std::string HsiBounds::Validate() const {
 }
 
 bool HsiBounds::operator==(const HsiBounds& o) const {
-  return hue_min_rad == o.hue_min_rad && hue_max_rad == o.hue_max_rad && sat_min == o.sat_min &&
-         sat_max == o.sat_max && val_min == o.val_min && val_max == o.val_max;
+  return hue_min_rad == o.hue_min_rad && hue_max_rad == o.hue_max_rad && sat_min == o.sat_min && sat_max == o.sat_max &&
+         val_min == o.val_min && val_max == o.val_max;
 }
 
 void RgbToHsv(uint8_t r8, uint8_t g8, uint8_t b8, double* h_rad, double* s, double* v) {
@@ -49,7 +49,7 @@ bool InBounds(const HsiBounds& k, uint8_t r, uint8_t g, uint8_t b) {
   double h, s, v;
   RgbToHsv(r, g, b, &h, &s, &v);
   const bool hue_ok = k.hue_min_rad <= k.hue_max_rad ? (h >= k.hue_min_rad && h <= k.hue_max_rad)
-                                                      : (h >= k.hue_min_rad || h <= k.hue_max_rad);
+                                                     : (h >= k.hue_min_rad || h <= k.hue_max_rad);
   return hue_ok && s >= k.sat_min && s <= k.sat_max && v >= k.val_min && v <= k.val_max;  // (3.22)
 }
 

@@ -41,7 +41,8 @@ Assignment AssignByPrediction(const std::vector<ConeDetection>& dets, const std:
     Eigen::Vector2d peak, base;
     if (!Project(T_pred, cam, pts[0], &peak) || !Project(T_pred, cam, pts[2], &base)) continue;
     for (size_t d = 0; d < dets.size(); ++d) {
-      const double e = 0.5 * ((dets[d].peak_undist_px - peak).squaredNorm() + (dets[d].base_undist_px - base).squaredNorm());
+      const double e =
+          0.5 * ((dets[d].peak_undist_px - peak).squaredNorm() + (dets[d].base_undist_px - base).squaredNorm());
       if (e < gate2) cost[d][c] = e;
     }
   }
@@ -93,7 +94,8 @@ PnpResult Solve(const std::vector<ConeDetection>& dets, const std::vector<ConeMo
     if (a[d] < 0) continue;
     const auto pts = CorrectedModelPoints(cones[size_t(a[d])], eye);
     model.insert(model.end(), pts.begin(), pts.end());
-    image.push_back(dets[d].peak_undist_px), image.push_back(dets[d].mid_undist_px), image.push_back(dets[d].base_undist_px);
+    image.push_back(dets[d].peak_undist_px), image.push_back(dets[d].mid_undist_px),
+        image.push_back(dets[d].base_undist_px);
   }
   CameraModel pinhole = cam;  // detections are undistorted already (3.1.2)
   pinhole.distortion.clear();
@@ -128,7 +130,8 @@ bool LayoutHasRotationalSymmetry(const std::vector<ConeModel>& cones) {
   while (std::next_permutation(perm.begin(), perm.end())) {
     double cross = 0.0, dot = 0.0;
     for (size_t i = 0; i < n; ++i) {
-      const Eigen::Vector2d a = cones[i].base_m.head<2>() - centroid, b = cones[size_t(perm[i])].base_m.head<2>() - centroid;
+      const Eigen::Vector2d a = cones[i].base_m.head<2>() - centroid,
+                            b = cones[size_t(perm[i])].base_m.head<2>() - centroid;
       cross += a.x() * b.y() - a.y() * b.x(), dot += a.dot(b);
     }
     const double th = std::atan2(cross, dot);

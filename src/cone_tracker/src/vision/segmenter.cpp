@@ -90,9 +90,7 @@ void Segmenter::SetConfig(const SegmenterConfig& config) {
   config_ = config;
 }
 
-bool Segmenter::SupportedEncoding(const std::string& e) {
-  return e == "rgb8" || e == "bgr8" || BayerCode(e) >= 0;
-}
+bool Segmenter::SupportedEncoding(const std::string& e) { return e == "rgb8" || e == "bgr8" || BayerCode(e) >= 0; }
 
 bool Segmenter::Classify(const ImageView& in, SegmentationResult* out) {
   if (!in.data || in.width <= 0 || in.height <= 0) {

@@ -24,7 +24,7 @@ struct Moments {
 struct Blob {
   std::vector<Run> runs;
   Moments m;
-  int fragments = 1;    // > 1 after merging pieces split by white collars
+  int fragments = 1;     // > 1 after merging pieces split by white collars
   double hull_area = 0;  // sum over fragments of their convex hull area (pixel corners)
   // Region properties (regionprops semantics).
   double area = 0, solidity = 0;
@@ -39,9 +39,7 @@ struct Blob {
 struct MaskView {
   const uint8_t* data = nullptr;
   int width = 0, height = 0, step = 0;
-  bool At(int x, int y) const {
-    return x >= 0 && y >= 0 && x < width && y < height && data[size_t(y) * step + x] != 0;
-  }
+  bool At(int x, int y) const { return x >= 0 && y >= 0 && x < width && y < height && data[size_t(y) * step + x] != 0; }
 };
 
 // Connected components of the mask restricted to [x0, x1) x [y0, y1); blobs

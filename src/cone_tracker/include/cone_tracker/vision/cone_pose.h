@@ -35,11 +35,11 @@ std::array<Eigen::Vector3d, 3> CorrectedModelPoints(const ConeModel& cone, const
 bool LayoutHasRotationalSymmetry(const std::vector<ConeModel>& cones);
 
 struct ConePoseConfig {
-  double sigma_px = 1.0;               // image noise of the peak/mid/base points (PnpOptions::sigma_px)
-  double max_assignment_px = 30.0;     // 3.1.6: a cone farther than this from its prediction is not matched
-  double chi2_probability = 0.999;     // 6.4.1: residual gate at this probability
-  double max_translation_change_m = 0.5;   // 6.4.2: against the prediction
-  double max_rotation_change_deg = 30.0;   // 6.4.2
+  double sigma_px = 1.0;                  // image noise of the peak/mid/base points (PnpOptions::sigma_px)
+  double max_assignment_px = 30.0;        // 3.1.6: a cone farther than this from its prediction is not matched
+  double chi2_probability = 0.999;        // 6.4.1: residual gate at this probability
+  double max_translation_change_m = 0.5;  // 6.4.2: against the prediction
+  double max_rotation_change_deg = 30.0;  // 6.4.2
   // Without a prediction: the camera's heading around the layout (atan2 of its
   // position's y, x in `cones`), to pick among symmetric solutions. NaN: none.
   double initial_heading_rad = NAN;
@@ -49,8 +49,8 @@ struct ConePoseConfig {
 enum PoseGateBits : uint32_t {
   kPoseTooFewCones = 1u << 0,  // fewer than 3 cones matched
   kPoseSolverFailed = 1u << 1,
-  kPoseChi2 = 1u << 2,      // 6.4.1
-  kPoseMotion = 1u << 3,    // 6.4.2
+  kPoseChi2 = 1u << 2,    // 6.4.1
+  kPoseMotion = 1u << 3,  // 6.4.2
 };
 
 struct ConePoseResult {

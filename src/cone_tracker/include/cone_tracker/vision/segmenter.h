@@ -18,15 +18,15 @@ namespace cone_tracker {
 
 struct SegmenterConfig {
   HsiBounds hsi;
-  int pyramid_levels = 2;         // 3.1.5.2: down-sample twice
-  int roi_margin_px = 8;          // full-resolution margin around the pyramid ROI
-  int min_fragment_area_px = 4;   // smaller blobs are artifacts, dropped before merging
+  int pyramid_levels = 2;        // 3.1.5.2: down-sample twice
+  int roi_margin_px = 8;         // full-resolution margin around the pyramid ROI
+  int min_fragment_area_px = 4;  // smaller blobs are artifacts, dropped before merging
   double merge_lateral_frac = 0.25;
   double merge_gap_frac = 0.5;
   // Gates (3.1.5.3).
   double min_area_px = 30.0;
   double max_area_px = 200000.0;
-  int border_px = 4;              // centroid within this of the edge, or blob touching it: rejected
+  int border_px = 4;  // centroid within this of the edge, or blob touching it: rejected
   double min_solidity = 0.75;
   double max_solidity = 1.0;
   double min_axis_ratio = 1.3;
@@ -35,7 +35,7 @@ struct SegmenterConfig {
   // so a blob whose major axis is far from the image vertical (stripes of a
   // hi-vis vest, a box's side) is not a cone.
   double max_tilt_deg = 50.0;
-  int line_search_misses = 3;     // consecutive non-cone pixels ending the line search
+  int line_search_misses = 3;  // consecutive non-cone pixels ending the line search
 
   std::string Validate() const;
 };
