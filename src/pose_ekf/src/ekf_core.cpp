@@ -62,7 +62,7 @@ bool EkfCore::Initialize(const CameraMeasurement& m) {
   s_.P.block<3, 4>(kP, kQ) = m.cov.bottomLeftCorner<3, 4>();
   s_.P.block<3, 3>(kP, kP) = m.cov.bottomRightCorner<3, 3>();
   InitializeUnmeasured(n);
-  s_.P = 0.5 * (s_.P + s_.P.transpose()).eval();
+  pose_math::SymmetrizeCovariance(s_.P);
   initialized_ = true;
   return true;
 }
@@ -96,7 +96,7 @@ bool EkfCore::InitializeFromGravity(double stamp_s, const Eigen::Vector3d& f) {
   s_.P.block<4, 4>(kQ, kQ) = G * var.asDiagonal() * G.transpose();
   s_.P.block<3, 3>(kP, kP) = config_.init_sigma_p_m * config_.init_sigma_p_m * Eigen::Matrix3d::Identity();
   InitializeUnmeasured(n);
-  s_.P = 0.5 * (s_.P + s_.P.transpose()).eval();
+  pose_math::SymmetrizeCovariance(s_.P);
   initialized_ = true;
   return true;
 }
@@ -114,7 +114,7 @@ void EkfCore::PredictStep(double dt) {
   s_.x = PropagateState(s_.x, dt, config_.quat_integration);                     // (5.19-5.21)
   NormalizeQuat(s_.x);
   s_.P = F * s_.P * F.transpose() + ProcessNoise(config_, static_cast<int>(s_.x.size()), dt);  // (5.23)
-  s_.P = 0.5 * (s_.P + s_.P.transpose()).eval();
+  pose_math::SymmetrizeCovariance(s_.P);
 }
 
 template <int M>
@@ -139,7 +139,7 @@ UpdateResult EkfCore::Update(const Eigen::Matrix<double, M, 1>& residual,
   } else {
     P = s_.P - K * PHt.transpose();  // (I - K H) P, with H P = (P Hᵀ)ᵀ
   }
-  P = 0.5 * (P + P.transpose()).eval();
+  pose_math::SymmetrizeCovariance(P);
   NormalizeQuat(x);  // (5.41)
   if (!x.allFinite() || !P.allFinite()) return UpdateResult::kNumericalFailure;
   if (nis) *nis = residual.dot(ldlt.solve(residual));

@@ -3,6 +3,8 @@
 #include "pose_math/covariance.h"
 #include "synthetic_rig.h"
 
+#include <boost/math/distributions/chi_squared.hpp>
+
 namespace pose_ekf_test {
 namespace {
 
@@ -54,10 +56,7 @@ RunStats RunFilter(const pose_ekf::EkfConfig& config, const std::vector<Event>& 
   return acc.Finish();
 }
 
-double ChiSquareQuantile(double k, double z) {
-  const double a = 2.0 / (9.0 * k);
-  return k * std::pow(1.0 - a + z * std::sqrt(a), 3.0);
-}
+double ChiSquareQuantile(double k, double p) { return boost::math::quantile(boost::math::chi_squared(k), p); }
 
 RunStats CameraOnlyStats(const std::vector<Event>& events) {
   Accumulator acc;

@@ -80,8 +80,8 @@ RunStats RunFilter(const pose_ekf::EkfConfig& config, const std::vector<Event>& 
 // The raw camera's errors over the same events, for comparison.
 RunStats CameraOnlyStats(const std::vector<Event>& events);
 
-// Wilson-Hilferty approximation of the chi-square quantile (dof k, standard
-// normal quantile z; relative error < 1e-3 for k >= 100), for the NEES intervals.
-double ChiSquareQuantile(double k, double z);
+// The chi-square quantile (dof k, probability p), for the NEES intervals;
+// Boost.Math, as the tracker's 6.4.1 gate uses.
+double ChiSquareQuantile(double k, double p);
 
 }  // namespace pose_ekf_test

@@ -73,7 +73,7 @@ TEST(Consistency, AverageNeesInsideTheChiSquareInterval) {
     total += s.mean_nees * s.samples;
     count += s.samples;
   }
-  const double lo = ChiSquareQuantile(6.0 * kRuns, -1.96) / kRuns, hi = ChiSquareQuantile(6.0 * kRuns, 1.96) / kRuns;
+  const double lo = ChiSquareQuantile(6.0 * kRuns, 0.025) / kRuns, hi = ChiSquareQuantile(6.0 * kRuns, 0.975) / kRuns;
   int inside = 0;
   for (double sum : sum_nees) inside += sum / kRuns >= lo && sum / kRuns <= hi;
   const double fraction = static_cast<double>(inside) / sum_nees.size();

@@ -148,7 +148,7 @@ struct Accumulated {
 // rz, ROS form) and its covariance the filter's 7x7 mapped by
 // pose_math::CovarianceRosFromThesis, so N runs' NEES sum is chi2(6 N) for a
 // consistent filter; the 95 % interval of the run average is
-// [chi2_0.025(6N), chi2_0.975(6N)] / N (Wilson-Hilferty quantiles). Steps: the
+// [chi2_0.025(6N), chi2_0.975(6N)] / N (Boost.Math quantiles). Steps: the
 // filter right after every IMU sample from kWarmupS on (the first second
 // starts from the loose initial sigmas of ω, v, a and the bias).
 TEST(RigSim, AverageNeesInsideTheChiSquareInterval) {
@@ -166,7 +166,7 @@ TEST(RigSim, AverageNeesInsideTheChiSquareInterval) {
     acc.sum_pos2 += r.rms_position_m * r.rms_position_m * r.samples;
     acc.samples += r.samples;
   }
-  const double lo = ChiSquareQuantile(6.0 * kRuns, -1.96) / kRuns, hi = ChiSquareQuantile(6.0 * kRuns, 1.96) / kRuns;
+  const double lo = ChiSquareQuantile(6.0 * kRuns, 0.025) / kRuns, hi = ChiSquareQuantile(6.0 * kRuns, 0.975) / kRuns;
   double total = 0.0;
   int inside = 0;
   for (double sum : acc.sum_nees) {
