@@ -1,6 +1,7 @@
 #include "ar_overlay/renderer.h"
 
 #include <GLES3/gl3.h>
+#include <malloc.h>
 
 #include <stdexcept>
 #include <string>
@@ -15,12 +16,10 @@ layout(location = 2) in vec4 a_color;
 uniform mat4 u_model_view;   // camera_from_model
 uniform mat3 u_normal_matrix;
 uniform mat4 u_projection;
-out vec3 v_position_c;
 out vec3 v_normal_c;
 out vec4 v_color;
 void main() {
   vec4 p = u_model_view * vec4(a_position, 1.0);
-  v_position_c = p.xyz;
   v_normal_c = u_normal_matrix * a_normal;
   v_color = a_color;
   gl_Position = u_projection * p;
@@ -31,21 +30,31 @@ void main() {
 // the camera; two-sided so open surfaces (peaks) are lit from below too.
 // Output is premultiplied by alpha, which is what remap's interpolation at
 // model edges and the composite (composite.cpp) expect.
+// The direction to the eye is the pixel's ray, (u - cx) / fx, (v - cy) / fy, 1
+// from gl_FragCoord (u_ray), not an interpolated camera-frame position: the
+// same vector, but three fewer varyings for llvmpipe to set up per triangle
+// and interpolate per pixel, which is where its time goes with small triangles.
 const char* kFragmentShader = R"(#version 300 es
 precision highp float;
-in vec3 v_position_c;
 in vec3 v_normal_c;
 in vec4 v_color;
 uniform float u_alpha;
 uniform vec4 u_color_override;
+uniform vec4 u_ray;  // x/z = fragcoord.x * u_ray.x + u_ray.y, y/z likewise with zw
 out vec4 o_color;
 void main() {
   vec3 n = normalize(v_normal_c);
-  vec3 to_eye = normalize(-v_position_c);
+  vec3 to_eye = -normalize(vec3(gl_FragCoord.xy * u_ray.xz + u_ray.yw, 1.0));
   if (dot(n, to_eye) < 0.0) n = -n;
   vec3 to_light = normalize(vec3(-0.3, -0.6, -1.0));
   float diffuse = max(dot(n, to_light), 0.0);
-  float specular = pow(max(dot(n, normalize(to_light + to_eye)), 0.0), 32.0);
+  // x^32 by five squarings: llvmpipe's pow is exp2(32 log2 x), several times the cost.
+  float specular = max(dot(n, normalize(to_light + to_eye)), 0.0);
+  specular *= specular;
+  specular *= specular;
+  specular *= specular;
+  specular *= specular;
+  specular *= specular;
   vec3 base = mix(v_color.rgb, u_color_override.rgb, u_color_override.a);
   vec3 rgb = min(base * (0.3 + 0.7 * diffuse) + vec3(0.25 * specular), vec3(1.0));
   float a = v_color.a * u_alpha;
@@ -71,17 +80,24 @@ GLuint Compile(GLenum type, const char* source) {
 
 struct Renderer::Gl {
   GLuint program = 0;
-  GLint u_model_view = -1, u_normal_matrix = -1, u_projection = -1, u_alpha = -1, u_color_override = -1;
+  GLint u_model_view = -1, u_normal_matrix = -1, u_projection = -1, u_alpha = -1, u_color_override = -1, u_ray = -1;
   GLuint framebuffer = 0, color_rb = 0, depth_rb = 0;
   struct GpuMesh {
     GLuint vao = 0, vbo = 0, ibo = 0;
     GLsizei index_count = 0;
+    GLenum index_type = GL_UNSIGNED_INT;
     Eigen::AlignedBox3f bounds;  // in the model's frame
   };
   std::vector<GpuMesh> meshes;
 };
 
 Renderer::Renderer(const RenderConfig& config) : config_(config), gl_(new Gl) {
+  // llvmpipe mallocs and frees megabytes of vertex and bin data per draw. With
+  // glibc's dynamic trimming each free hands them back to the kernel and the
+  // next frame faults them in again, zero-filled: about a third of the CPU time
+  // of a 50k-triangle frame (perf: brk and clear_page). Keeping freed heap costs
+  // the process nothing it was not already using at its peak.
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
   if (!(config.near_m > 0 && config.far_m > config.near_m))
     throw std::invalid_argument("ar_overlay: need 0 < near_m < far_m");
   GLuint vs = Compile(GL_VERTEX_SHADER, kVertexShader), fs = Compile(GL_FRAGMENT_SHADER, kFragmentShader);
@@ -99,6 +115,7 @@ Renderer::Renderer(const RenderConfig& config) : config_(config), gl_(new Gl) {
   gl_->u_projection = glGetUniformLocation(gl_->program, "u_projection");
   gl_->u_alpha = glGetUniformLocation(gl_->program, "u_alpha");
   gl_->u_color_override = glGetUniformLocation(gl_->program, "u_color_override");
+  gl_->u_ray = glGetUniformLocation(gl_->program, "u_ray");
 }
 
 Renderer::~Renderer() {
@@ -124,8 +141,15 @@ int Renderer::AddMesh(const Mesh& mesh) {
                GL_STATIC_DRAW);
   glGenBuffers(1, &m.ibo);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m.ibo);
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(uint32_t)),
-               mesh.indices.data(), GL_STATIC_DRAW);
+  if (mesh.vertices.size() <= 65536) {  // 16-bit indices: half the index traffic for llvmpipe's vertex fetch
+    const std::vector<uint16_t> short_indices(mesh.indices.begin(), mesh.indices.end());
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(short_indices.size() * sizeof(uint16_t)),
+                 short_indices.data(), GL_STATIC_DRAW);
+    m.index_type = GL_UNSIGNED_SHORT;
+  } else {
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(uint32_t)),
+                 mesh.indices.data(), GL_STATIC_DRAW);
+  }
   glEnableVertexAttribArray(0);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, position)));
   glEnableVertexAttribArray(1);
@@ -160,6 +184,8 @@ void Renderer::SetCamera(const CameraIntrinsics& k) {
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw std::runtime_error("ar_overlay: offscreen framebuffer incomplete");
   canvas_.create(map_->canvas_height(), map_->canvas_width(), CV_8UC4);
+  canvas_.setTo(cv::Scalar::all(0));
+  canvas_written_ = cv::Rect();
 }
 
 cv::Rect Renderer::CanvasRoi(const std::vector<DrawItem>& items, const Eigen::Matrix4f& T_camera_cones) const {
@@ -197,8 +223,16 @@ cv::Rect Renderer::Render(const std::vector<DrawItem>& items, const Eigen::Isome
   const Eigen::Matrix4f P = ProjectionFromIntrinsics(camera_.fx_px, camera_.fy_px, map_->canvas_cx(), map_->canvas_cy(),
                                                      W, H, config_.near_m, config_.far_m);
   const Eigen::Matrix4f T_c_m0 = T_camera_cones.matrix().cast<float>();
-  overlay_rgba.create(camera_.height_px, camera_.width_px, CV_8UC4);
-  overlay_rgba.setTo(cv::Scalar::all(0));
+  // overlay_ is the renderer's own buffer, so zeroing what the last frame wrote
+  // is enough: a full clear of 1024x768 RGBA costs more than a small model's readback.
+  if (overlay_.rows != camera_.height_px || overlay_.cols != camera_.width_px) {
+    overlay_.create(camera_.height_px, camera_.width_px, CV_8UC4);
+    overlay_.setTo(cv::Scalar::all(0));
+  } else if (!overlay_written_.empty()) {
+    overlay_(overlay_written_).setTo(cv::Scalar::all(0));
+  }
+  overlay_written_ = cv::Rect();
+  overlay_rgba = overlay_;
   const cv::Rect roi = CanvasRoi(items, T_c_m0);
   if (roi.empty()) return cv::Rect();  // nothing in view: nothing to draw
   glBindFramebuffer(GL_FRAMEBUFFER, gl_->framebuffer);
@@ -214,6 +248,10 @@ cv::Rect Renderer::Render(const std::vector<DrawItem>& items, const Eigen::Isome
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glUseProgram(gl_->program);
   glUniformMatrix4fv(gl_->u_projection, 1, GL_FALSE, P.data());  // Eigen is column-major, as GL
+  // gl_FragCoord is the pixel centre, u + 0.5, with row 0 at the image top (ProjectionFromIntrinsics).
+  glUniform4f(gl_->u_ray, static_cast<float>(1.0 / camera_.fx_px),
+              static_cast<float>(-(map_->canvas_cx() + 0.5) / camera_.fx_px), static_cast<float>(1.0 / camera_.fy_px),
+              static_cast<float>(-(map_->canvas_cy() + 0.5) / camera_.fy_px));
   for (const DrawItem& item : items) {
     if (item.mesh_id < 0 || item.mesh_id >= static_cast<int>(gl_->meshes.size())) continue;
     const Eigen::Matrix4f model_view = T_c_m0 * item.T_cones_model;
@@ -224,18 +262,22 @@ cv::Rect Renderer::Render(const std::vector<DrawItem>& items, const Eigen::Isome
     glUniform4fv(gl_->u_color_override, 1, item.color_override.data());
     const Gl::GpuMesh& m = gl_->meshes[static_cast<size_t>(item.mesh_id)];
     glBindVertexArray(m.vao);
-    glDrawElements(GL_TRIANGLES, m.index_count, GL_UNSIGNED_INT, nullptr);
+    glDrawElements(GL_TRIANGLES, m.index_count, m.index_type, nullptr);
   }
   glBindVertexArray(0);
   glDisable(GL_SCISSOR_TEST);
   // Read back the region into its place in canvas_ (row 0 = image top, camera_projection.h).
-  canvas_.setTo(cv::Scalar::all(0));
+  // The remap reads canvas pixels outside `roi` too: they must be zero, and only
+  // the last frame's region can be anything else.
+  if (!canvas_written_.empty()) canvas_(canvas_written_).setTo(cv::Scalar::all(0));
+  canvas_written_ = roi;
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   glPixelStorei(GL_PACK_ROW_LENGTH, W);
   glReadPixels(roi.x, roi.y, roi.width, roi.height, GL_RGBA, GL_UNSIGNED_BYTE, canvas_.ptr(roi.y, roi.x));
   glPixelStorei(GL_PACK_ROW_LENGTH, 0);
   const cv::Rect raw_roi = map_->RawRoi(roi);
-  if (!raw_roi.empty()) map_->ApplyRoi(canvas_, raw_roi, overlay_rgba);
+  if (!raw_roi.empty()) map_->ApplyRoi(canvas_, raw_roi, overlay_);
+  overlay_written_ = raw_roi;
   return raw_roi;
 }
 

@@ -40,7 +40,8 @@ class Renderer {
   void SetCamera(const CameraIntrinsics& k);
   // Renders `items` seen from T_camera_cones (p_camera = R p_cones + t) into
   // `overlay_rgba` (CV_8UC4, the camera's size, premultiplied R G B A, zero
-  // outside the models). Returns the region that can hold model pixels: only
+  // outside the models); it refers to the renderer's own buffer, valid (and
+  // not to be written) until the next Render. Returns the region that can hold model pixels: only
   // there are pixels read back, remapped and (by the caller) composited, the
   // frame's main cost after the rasterisation itself.
   cv::Rect Render(const std::vector<DrawItem>& items, const Eigen::Isometry3d& T_camera_cones, cv::Mat& overlay_rgba);
@@ -55,6 +56,9 @@ class Renderer {
   std::unique_ptr<DistortionMap> map_;
   std::unique_ptr<Gl> gl_;
   cv::Mat canvas_;
+  cv::Rect canvas_written_;  // canvas_ is zero outside it
+  cv::Mat overlay_;          // what Render hands out,
+  cv::Rect overlay_written_;  // zero outside this
   // Where the items can appear on the canvas: their bounding boxes projected.
   cv::Rect CanvasRoi(const std::vector<DrawItem>& items, const Eigen::Matrix4f& T_camera_cones) const;
 };
