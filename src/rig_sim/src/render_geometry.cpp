@@ -150,6 +150,21 @@ std::vector<Prim> BuildPrims(const Scene& scene) {
     p.sphere_radius = p.half_size.norm() * 1.001;
     prims.push_back(p);
   }
+  for (size_t i = 0; i < scene.platforms.size(); ++i) {
+    const PlatformSpec& b = scene.platforms[i];
+    Prim p;
+    p.kind = PrimKind::kBox;
+    p.label = label++;
+    p.platform_index = static_cast<int>(i);
+    p.origin = Eigen::Vector3d(b.center_m.x(), b.center_m.y(), 0.5 * b.size_m.z());
+    p.cos_yaw = std::cos(b.yaw_rad);
+    p.sin_yaw = std::sin(b.yaw_rad);
+    p.half_size = 0.5 * b.size_m;
+    p.albedo = b.albedo.cast<float>();
+    p.sphere_center = p.origin;
+    p.sphere_radius = p.half_size.norm() * 1.001;
+    prims.push_back(p);
+  }
   for (const PatchSpec& s : scene.patches) {
     Prim p;
     p.kind = PrimKind::kDecal;

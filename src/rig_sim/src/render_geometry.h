@@ -24,6 +24,7 @@ struct Prim {
   double height = 0.0, tau2 = 0.0, tau = 0.0;           // cone
   Eigen::Vector3f albedo = Eigen::Vector3f::Zero();
   int cone_index = -1;
+  int platform_index = -1;  // boxes that are overlay test platforms: dots on the top face
 };
 
 // Candidate hit: t along the ray O + t d, and the outward unit normal.

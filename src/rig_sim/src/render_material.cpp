@@ -30,7 +30,7 @@ void AddValueNoise(std::vector<float>* tex, int size, int period, float amplitud
 }  // namespace
 
 Materials::Materials(const Scene& scene, const RenderConfig& config)
-    : cones_(scene.cones), ground_(scene.ground), lighting_(config.lighting) {
+    : cones_(scene.cones), platforms_(scene.platforms), ground_(scene.ground), lighting_(config.lighting) {
   const int size = 1 << kTexBits;
   std::vector<float> tex(size * size, 1.0f);
   std::mt19937 rng(12345u + static_cast<unsigned>(scene.ground));  // the ground looks the same for every seed
@@ -91,6 +91,20 @@ Eigen::Vector3f Materials::PersonAlbedo(double z, double h, bool* reflective) co
   return Eigen::Vector3f(0.95f, 0.30f, 0.02f);  // hi-vis orange
 }
 
+Eigen::Vector3f Materials::PlatformAlbedo(const Prim& prim, const Eigen::Vector3d& hit_m,
+                                          const Eigen::Vector3d& normal) const {
+  if (normal.z() < 0.5) return prim.albedo;  // the sides carry no dots
+  const PlatformSpec& pl = platforms_[static_cast<size_t>(prim.platform_index)];
+  const double dx = hit_m.x() - prim.origin.x(), dy = hit_m.y() - prim.origin.y();
+  // Board frame (rotation by -yaw), then grid units with dot (0, 0) at integer (0, 0).
+  const double gx = (prim.cos_yaw * dx + prim.sin_yaw * dy) / pl.spacing_m + 0.5 * (pl.cols - 1);
+  const double gy = (-prim.sin_yaw * dx + prim.cos_yaw * dy) / pl.spacing_m + 0.5 * (pl.rows - 1);
+  const double kx = std::round(gx), ky = std::round(gy);
+  if (kx < 0 || ky < 0 || kx > pl.cols - 1 || ky > pl.rows - 1) return prim.albedo;
+  const double ex = (gx - kx) * pl.spacing_m, ey = (gy - ky) * pl.spacing_m;
+  return ex * ex + ey * ey <= pl.dot_radius_m * pl.dot_radius_m ? pl.dot_albedo.cast<float>() : prim.albedo;
+}
+
 Eigen::Vector3f Materials::Shade(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double inv_norm_d, const Hit& hit,
                                  const Prim* decal, const Lighting& light, int16_t* label) const {
   const Eigen::Vector3d dn = d * inv_norm_d;
@@ -124,7 +138,7 @@ Eigen::Vector3f Materials::Shade(const Eigen::Vector3d& o, const Eigen::Vector3d
         albedo = PersonAlbedo(p.z(), hit.prim->height, &reflective);
         break;
       default:
-        albedo = hit.prim->albedo;
+        albedo = hit.prim->platform_index >= 0 ? PlatformAlbedo(*hit.prim, p, n) : hit.prim->albedo;
         shine = 0.05f;
         break;
     }

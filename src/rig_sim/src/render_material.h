@@ -61,8 +61,10 @@ class Materials {
   Eigen::Vector3f Haze(const Eigen::Vector3f& radiance, double range_m, const Lighting& light) const;
   Eigen::Vector3f ConeAlbedo(const Prim& p, double z_m, bool* reflective) const;
   Eigen::Vector3f PersonAlbedo(double z_m, double height_m, bool* reflective) const;
+  Eigen::Vector3f PlatformAlbedo(const Prim& p, const Eigen::Vector3d& hit_m, const Eigen::Vector3d& normal) const;
 
   std::vector<ConeSpec> cones_;
+  std::vector<PlatformSpec> platforms_;
   GroundStyle ground_;
   LightingConfig lighting_;
   std::vector<uint8_t> texture_;

@@ -104,6 +104,29 @@ void ParseRoot(const YAML::Node& root, Scene* out) {
     person.height_m = ReadDouble(p, "height_m", person.height_m);
     s.people.push_back(person);
   }
+  int platform_index = 0;
+  for (const auto& p : root["platforms"]) {
+    const std::string where = "platforms[" + std::to_string(platform_index++) + "]: ";
+    PlatformSpec pl;
+    pl.center_m = Eigen::Vector2d(ReadDouble(p, "x_m", 0.0), ReadDouble(p, "y_m", 0.0));
+    pl.yaw_rad = ReadDouble(p, "yaw_deg", 0.0) * kPi / 180.0;
+    pl.size_m = Eigen::Vector3d(ReadDouble(p, "sx_m", pl.size_m.x()), ReadDouble(p, "sy_m", pl.size_m.y()),
+                                ReadDouble(p, "sz_m", pl.size_m.z()));
+    pl.albedo = ReadColor(p["albedo"], pl.albedo);
+    pl.rows = p["rows"] ? p["rows"].as<int>() : pl.rows;
+    pl.cols = p["cols"] ? p["cols"].as<int>() : pl.cols;
+    pl.spacing_m = ReadDouble(p, "spacing_m", pl.spacing_m);
+    pl.dot_radius_m = ReadDouble(p, "dot_radius_m", pl.dot_radius_m);
+    pl.dot_albedo = ReadColor(p["dot_albedo"], pl.dot_albedo);
+    if ((pl.size_m.array() <= 0.0).any()) throw std::runtime_error(where + "sizes must be positive");
+    if (pl.rows < 1 || pl.cols < 1) throw std::runtime_error(where + "rows and cols must be at least 1");
+    if (!(pl.dot_radius_m > 0.0) || !(pl.spacing_m > 2.0 * pl.dot_radius_m))
+      throw std::runtime_error(where + "need 0 < dot_radius_m < spacing_m / 2");
+    if ((pl.cols - 1) * pl.spacing_m + 2 * pl.dot_radius_m > pl.size_m.x() ||
+        (pl.rows - 1) * pl.spacing_m + 2 * pl.dot_radius_m > pl.size_m.y())
+      throw std::runtime_error(where + "the dot grid does not fit on the board");
+    s.platforms.push_back(pl);
+  }
   if (root["ground"]) {
     const std::string g = root["ground"].as<std::string>();
     if (g == "asphalt")
@@ -119,6 +142,17 @@ void ParseRoot(const YAML::Node& root, Scene* out) {
 }
 
 }  // namespace
+
+std::vector<Eigen::Vector3d> PlatformSpec::DotCentres() const {
+  std::vector<Eigen::Vector3d> dots;
+  const double c = std::cos(yaw_rad), s = std::sin(yaw_rad);
+  for (int r = 0; r < rows; ++r)
+    for (int k = 0; k < cols; ++k) {
+      const double x = (k - 0.5 * (cols - 1)) * spacing_m, y = (r - 0.5 * (rows - 1)) * spacing_m;
+      dots.emplace_back(center_m.x() + c * x - s * y, center_m.y() + s * x + c * y, size_m.z());
+    }
+  return dots;
+}
 
 Eigen::Vector3d Scene::ConeCentroid() const {
   Eigen::Vector3d c = Eigen::Vector3d::Zero();

@@ -47,6 +47,21 @@ struct PersonSpec {  // a standing person in a hi-vis orange vest, as a cylinder
   double radius_m = 0.22;
 };
 
+// The overlay test platform (7.2): a white board on the ground whose top face
+// carries a rows x cols grid of blue dots, centred on the board. The virtual
+// object of the experiment is a grid of red dots whose centres fall between them.
+struct PlatformSpec {
+  Eigen::Vector2d center_m = Eigen::Vector2d::Zero();
+  double yaw_rad = 0.0;
+  Eigen::Vector3d size_m = Eigen::Vector3d(0.6, 0.6, 0.05);  // the board stands on the ground
+  Eigen::Vector3d albedo = Eigen::Vector3d(0.80, 0.80, 0.78);
+  int rows = 5, cols = 5;  // along the board's y and x
+  double spacing_m = 0.1, dot_radius_m = 0.02;
+  Eigen::Vector3d dot_albedo = Eigen::Vector3d(0.02, 0.08, 0.60);
+  // Dot centres on the top face in {M}, row-major (row along y, column along x).
+  std::vector<Eigen::Vector3d> DotCentres() const;
+};
+
 enum class GroundStyle { kAsphalt, kGrass, kConcrete };
 
 struct Scene {
@@ -54,6 +69,7 @@ struct Scene {
   std::vector<BoxSpec> boxes;
   std::vector<PatchSpec> patches;
   std::vector<PersonSpec> people;
+  std::vector<PlatformSpec> platforms;
   GroundStyle ground = GroundStyle::kAsphalt;
 
   // Centroid of the cone bases (the origin of {M} for a well-formed layout).
