@@ -129,6 +129,28 @@ Mesh Frustum(float r0, float r1, float length, int segments, const Rgba& color) 
   return m;
 }
 
+Mesh DotGrid(int rows, int cols, float spacing, float radius, int segments, const Rgba& color) {
+  if (rows < 1 || cols < 1 || segments < 3 || !(radius > 0) || !(spacing > 2 * radius))
+    throw std::invalid_argument("DotGrid: need rows, cols >= 1, segments >= 3, 0 < radius < spacing / 2");
+  Mesh m;
+  const Vector3f up = Vector3f::UnitZ();
+  for (int r = 0; r < rows; ++r)
+    for (int k = 0; k < cols; ++k) {
+      const float x = (k - 0.5f * (cols - 1)) * spacing, y = (r - 0.5f * (rows - 1)) * spacing;
+      const auto centre = static_cast<uint32_t>(m.vertices.size());
+      m.vertices.push_back(MakeVertex(Vector3f(x, y, 0), up, color));
+      for (int i = 0; i < segments; ++i) {
+        const double a = 2 * M_PI * i / segments;
+        m.vertices.push_back(MakeVertex(
+            Vector3f(x + radius * static_cast<float>(std::cos(a)), y + radius * static_cast<float>(std::sin(a)), 0),
+            up, color));
+        const auto next = static_cast<uint32_t>((i + 1) % segments);
+        m.indices.insert(m.indices.end(), {centre, centre + 1 + static_cast<uint32_t>(i), centre + 1 + next});
+      }
+    }
+  return m;
+}
+
 Mesh CargoAircraft() {
   const Rgba body{0.42f, 0.47f, 0.40f, 1}, dark{0.25f, 0.27f, 0.25f, 1}, glass{0.1f, 0.12f, 0.2f, 1};
   const Rgba prop{0.15f, 0.15f, 0.15f, 0.35f};

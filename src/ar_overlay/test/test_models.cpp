@@ -72,7 +72,7 @@ TEST(Models, LoadErrorsNameTheFileAndTheReason) {
 TEST(Models, BundledFilesMatchTheGenerator) {
   const std::string dir = testing::TempDir();
   ASSERT_EQ(std::system((std::string(AR_OVERLAY_MAKE_MODELS) + " " + dir).c_str()), 0);
-  for (const std::string name : {"peaks", "c130", "kr6_link0", "kr6_link3", "kr6_link6"}) {
+  for (const std::string name : {"peaks", "c130", "kr6_link0", "kr6_link3", "kr6_link6", "platform_red_dots"}) {
     const std::string committed = Slurp(kDir + "/models/" + name + ".ply");
     EXPECT_FALSE(committed.empty()) << name;
     EXPECT_EQ(committed, Slurp(dir + "/" + name + ".ply")) << name << ".ply differs: run ar_overlay_make_models";
@@ -80,7 +80,7 @@ TEST(Models, BundledFilesMatchTheGenerator) {
 }
 
 TEST(Scene, BundledScenesLoadEveryModel) {
-  for (const std::string name : {"peaks", "kr6", "c130"}) {
+  for (const std::string name : {"peaks", "kr6", "c130", "platform"}) {
     const auto specs = LoadSceneYaml(kDir + "/config/scene_" + name + ".yaml");
     EXPECT_FALSE(specs.empty()) << name;
     for (const ModelSpec& s : specs) EXPECT_NO_THROW(LoadModel(s.file)) << s.file;

@@ -24,6 +24,10 @@ Mesh Box(float size_x, float size_y, float size_z, const Rgba& color);
 // A frustum along +z from z = 0 (radius r0) to z = length (radius r1), capped.
 Mesh Frustum(float r0, float r1, float length, int segments, const Rgba& color);
 
+// The virtual object of the overlay test platform (7.2): rows x cols flat
+// discs in the z = 0 plane facing +z, centred on the origin, `spacing` apart.
+Mesh DotGrid(int rows, int cols, float spacing, float radius, int segments, const Rgba& color);
+
 // A C-130-like four-engine cargo aircraft (about 30 m long, 40 m span),
 // nose along +x, high wing, z up, origin on the fuselage axis under the
 // wing's centre. The propeller discs are translucent.

@@ -1,0 +1,92 @@
+// The 7.2 measurement on frames made by our own renderer: the platform's blue
+// dots and the red dots drawn together, the red grid placed exactly between
+// the blue one or moved by a known amount on the platform.
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+
+#include "ar_overlay/mesh_generators.h"
+#include "ar_overlay/overlay.h"
+#include "ar_overlay/platform_alignment.h"
+#include "ar_overlay/scene.h"
+
+namespace ar_overlay {
+namespace {
+
+const std::string kDir = AR_OVERLAY_DIR;
+
+// A frame of the platform seen obliquely through a distorted lens, image right
+// along the platform's +x; the red grid offset by (dx, dy) metres on the platform.
+cv::Mat PlatformFrame(const CameraIntrinsics& k, double dx_m, double dy_m) {
+  Overlay overlay;
+  ModelSpec blue, red;
+  blue.name = "blue";
+  blue.T_parent_origin.translation() << 0, 0, 0.05;
+  red.name = "red";
+  red.T_parent_origin.translation() << dx_m, dy_m, 0.0501;
+  overlay.AddModel(blue, DotGrid(5, 5, 0.1f, 0.02f, 32, {0, 0, 1, 1}));
+  overlay.AddModel(red, DotGrid(4, 4, 0.1f, 0.015f, 32, {1, 0, 0, 1}));
+  const cv::Mat grey(k.height_px, k.width_px, CV_8UC3, cv::Scalar(150, 150, 150));
+  cv::Mat out;
+  std::string enc;
+  overlay.Process(grey, "bgr8", k, CameraLookAt({0.0, -0.6, 1.0}, {0.0, 0.0, 0.05}).inverse(), out, enc);
+  return out;
+}
+
+const CameraIntrinsics kCamera{640, 480, 560, 560, 319.5, 239.5, {-0.2, 0.05, 0, 0, 0}};
+
+TEST(PlatformAlignment, SegmentsEveryDotOfBothGrids) {
+  const cv::Mat frame = PlatformFrame(kCamera, 0, 0);
+  EXPECT_EQ(SegmentDots(frame, DotColour::kBlue, AlignmentConfig()).size(), 25u);
+  EXPECT_EQ(SegmentDots(frame, DotColour::kRed, AlignmentConfig()).size(), 16u);
+  const cv::Mat grey(100, 100, CV_8UC3, cv::Scalar(150, 150, 150));  // nothing in a grey frame
+  EXPECT_TRUE(SegmentDots(grey, DotColour::kBlue, AlignmentConfig()).empty());
+}
+
+TEST(PlatformAlignment, AlignedGridsGiveNoErrorAndAnOffsetIsMeasuredInInches) {
+  const AlignmentStats aligned = Summarize(MeasureAlignment(PlatformFrame(kCamera, 0, 0), kCamera, AlignmentConfig()));
+  ASSERT_EQ(aligned.dots, 16u);
+  EXPECT_LT(std::hypot(aligned.mean_px.x, aligned.mean_px.y), 0.15);
+  EXPECT_LT(std::max(aligned.std_px.x, aligned.std_px.y), 0.2);
+  // 1 cm along the platform's x (image right): 0.394 inch; the cell scale is local, so within 10 %.
+  const AlignmentStats moved = Summarize(MeasureAlignment(PlatformFrame(kCamera, 0.01, 0), kCamera, AlignmentConfig()));
+  ASSERT_EQ(moved.dots, 16u);
+  EXPECT_NEAR(moved.mean_inch.x, 0.01 / 0.0254, 0.04);
+  EXPECT_NEAR(moved.mean_inch.y, 0.0, 0.04);
+  EXPECT_GT(moved.mean_px.x, 3.0);
+  // Without undoing the distortion the middle is wrong at the edges: the camera matters.
+  CameraIntrinsics pinhole = kCamera;
+  pinhole.distortion.clear();
+  const AlignmentStats raw = Summarize(MeasureAlignment(PlatformFrame(kCamera, 0, 0), pinhole, AlignmentConfig()));
+  EXPECT_GT(std::max(raw.std_px.x, raw.std_px.y), aligned.std_px.x);
+}
+
+TEST(PlatformAlignment, RedDotsWithoutACellAreLeftOut) {
+  cv::Mat frame = PlatformFrame(kCamera, 0, 0);
+  // Paint over the blue dots of the left half: red dots there lose their cells.
+  cv::Mat left = frame(cv::Rect(0, 0, 320, 480));
+  left.setTo(cv::Scalar(150, 150, 150), DotMask(left, DotColour::kBlue));
+  const auto errors = MeasureAlignment(frame, kCamera, AlignmentConfig());
+  EXPECT_GT(errors.size(), 0u);
+  EXPECT_LT(errors.size(), 16u);
+  EXPECT_TRUE(Summarize({}).dots == 0);
+}
+
+TEST(PlatformAlignment, SceneMatchesRigSimPlatform) {
+  // The red grid of scene_platform.yaml sits between rig_sim's blue grid (layouts/platform.yaml).
+  const YAML::Node layout = YAML::LoadFile(kDir + "/../rig_sim/config/layouts/platform.yaml");
+  const YAML::Node p = layout["platforms"][0];
+  EXPECT_DOUBLE_EQ(p["spacing_m"].as<double>(), 0.1);
+  EXPECT_EQ(p["rows"].as<int>(), 5);
+  EXPECT_EQ(p["cols"].as<int>(), 5);
+  const auto specs = LoadSceneYaml(kDir + "/config/scene_platform.yaml");
+  ASSERT_EQ(specs.size(), 1u);
+  const Eigen::Vector3d t = specs[0].T_parent_origin.translation();
+  EXPECT_DOUBLE_EQ(t.x(), p["x_m"].as<double>());
+  EXPECT_DOUBLE_EQ(t.y(), p["y_m"].as<double>());
+  EXPECT_DOUBLE_EQ(t.z(), p["sz_m"].as<double>());  // on the board's top face
+}
+
+}  // namespace
+}  // namespace ar_overlay
