@@ -79,3 +79,16 @@ experiments: build
 rviz-screenshot: build
 	@mkdir -p $(ROOT)/out
 	@$(ENV) && bash $(ROOT)/src/ar_overlay/scripts/rviz_screenshot.sh $(ROOT)/out/rviz_overlay.png 25
+
+# ar_overlay: the overlay test platform of thesis 7.2 (figures 7.8 and 7.9): rig_sim handheld bags of
+# layouts/platform.yaml replayed through the whole graph with pose_ekf's gyros on and off, the red
+# dots' misalignment measured in every overlay frame; tables in out/experiments/overlay_platform.md.
+# PLATFORM_TRIALS, PLATFORM_DURATION_S and PLATFORM_RATE shorten or slow the run.
+.PHONY: overlay-platform
+PLATFORM_TRIALS ?= 3
+PLATFORM_DURATION_S ?= 30
+PLATFORM_RATE ?= 0.5
+overlay-platform: build
+	@mkdir -p $(ROOT)/out/experiments
+	@$(ENV) && bash $(ROOT)/src/ar_overlay/scripts/overlay_platform.sh $(ROOT)/out/experiments \
+	  $(PLATFORM_TRIALS) $(PLATFORM_DURATION_S) $(PLATFORM_RATE)

@@ -3,8 +3,11 @@
 #pragma once
 
 #include <ros/node_handle.h>
+#include <sensor_msgs/CameraInfo.h>
 
 #include <string>
+
+#include "ar_overlay/camera_projection.h"
 
 namespace ar_overlay {
 
@@ -31,5 +34,9 @@ struct OverlayConfig {
 
 // Reads ~parameters into `c`; returns "" or a message naming the first bad one.
 std::string LoadConfig(const ros::NodeHandle& private_nh, OverlayConfig& c);
+
+// The camera of a camera_info; throws std::invalid_argument for a distortion
+// model other than plumb_bob / rational_polynomial (or none).
+CameraIntrinsics FromCameraInfo(const sensor_msgs::CameraInfo& info);
 
 }  // namespace ar_overlay
