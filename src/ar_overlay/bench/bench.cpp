@@ -119,16 +119,19 @@ int main() {
     cv::Mat out;
     std::string enc;
     double ours_cpu = 0, opencv_cpu = 0;
-    const double ours =
-        MedianMs(10, 100, [&] { overlay.Process(background, "bgr8", k, T_camera_cones, out, enc); }, &ours_cpu);
+    const double ours = MedianMs(
+        10, 100, [&] { overlay.Process(background, "bgr8", k, T_camera_cones, out, enc); }, &ours_cpu);
     const double no_remap =
         MedianMs(10, 100, [&] { overlay.Process(background, "bgr8", pinhole, T_camera_cones, out, enc); });
     const Eigen::Isometry3d T_camera_model = T_camera_cones * spec.T_parent_origin;
     const auto scale = static_cast<float>(spec.scale);
-    const double opencv = MedianMs(2, 20, [&] {
-      background.copyTo(out);
-      SoftwareRender(peaks, scale, T_camera_model, k, out);
-    }, &opencv_cpu);
+    const double opencv = MedianMs(
+        2, 20,
+        [&] {
+          background.copyTo(out);
+          SoftwareRender(peaks, scale, T_camera_model, k, out);
+        },
+        &opencv_cpu);
     if (const char* dir = std::getenv("AR_OVERLAY_BENCH_PNG")) {  // to look at both renderings
       overlay.Process(background, "bgr8", k, T_camera_cones, out, enc);
       cv::imwrite(std::string(dir) + "/bench_gl.png", out);

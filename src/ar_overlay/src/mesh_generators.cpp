@@ -142,8 +142,8 @@ Mesh DotGrid(int rows, int cols, float spacing, float radius, int segments, cons
       for (int i = 0; i < segments; ++i) {
         const double a = 2 * M_PI * i / segments;
         m.vertices.push_back(MakeVertex(
-            Vector3f(x + radius * static_cast<float>(std::cos(a)), y + radius * static_cast<float>(std::sin(a)), 0),
-            up, color));
+            Vector3f(x + radius * static_cast<float>(std::cos(a)), y + radius * static_cast<float>(std::sin(a)), 0), up,
+            color));
         const auto next = static_cast<uint32_t>((i + 1) % segments);
         m.indices.insert(m.indices.end(), {centre, centre + 1 + static_cast<uint32_t>(i), centre + 1 + next});
       }

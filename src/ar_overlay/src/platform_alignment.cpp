@@ -19,8 +19,7 @@ std::vector<cv::Point2d> Undistort(const std::vector<cv::Point2d>& raw, const Ca
 }
 
 // Where segments a0-a1 and b0-b1 cross; false when they are parallel.
-bool Cross(const cv::Point2d& a0, const cv::Point2d& a1, const cv::Point2d& b0, const cv::Point2d& b1,
-           cv::Point2d* p) {
+bool Cross(const cv::Point2d& a0, const cv::Point2d& a1, const cv::Point2d& b0, const cv::Point2d& b1, cv::Point2d* p) {
   const cv::Point2d da = a1 - a0, db = b1 - b0;
   const double den = da.x * db.y - da.y * db.x;
   if (std::abs(den) < 1e-9) return false;
@@ -99,8 +98,8 @@ std::vector<DotError> MeasureAlignment(const cv::Mat& bgr, const CameraIntrinsic
   for (const cv::Point2d& r : red) {
     cv::Point2d c[4], middle;
     if (!CellAround(r, blue, c) || !Cross(c[0], c[2], c[1], c[3], &middle)) continue;
-    const double side = 0.25 * (cv::norm(c[1] - c[0]) + cv::norm(c[2] - c[1]) + cv::norm(c[3] - c[2]) +
-                                cv::norm(c[0] - c[3]));
+    const double side =
+        0.25 * (cv::norm(c[1] - c[0]) + cv::norm(c[2] - c[1]) + cv::norm(c[3] - c[2]) + cv::norm(c[0] - c[3]));
     errors.push_back({r, middle, r - middle, config.spacing_m / side});
   }
   return errors;
@@ -117,7 +116,9 @@ AlignmentStats Summarize(const std::vector<DotError>& errors) {
     sum_in += in, sum2_in += cv::Point2d(in.x * in.x, in.y * in.y);
   }
   const double n = static_cast<double>(errors.size());
-  const auto sd = [n](double sum, double sum2) { return n > 1 ? std::sqrt(std::max(0.0, (sum2 - sum * sum / n) / (n - 1))) : 0.0; };
+  const auto sd = [n](double sum, double sum2) {
+    return n > 1 ? std::sqrt(std::max(0.0, (sum2 - sum * sum / n) / (n - 1))) : 0.0;
+  };
   s.mean_px = sum_px / n;
   s.mean_inch = sum_in / n;
   s.std_px = {sd(sum_px.x, sum2_px.x), sd(sum_px.y, sum2_px.y)};

@@ -110,7 +110,7 @@ TEST(ReconfigureModel, BadValuesAreRefusedWithTheName) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("sigma_gyro_rad_s"), std::string::npos);
   }
-  EXPECT_THROW(SingleParameter(groups[1].params[1], 1.0), std::invalid_argument);           // a string
+  EXPECT_THROW(SingleParameter(groups[1].params[1], 1.0), std::invalid_argument);               // a string
   EXPECT_THROW(SingleParameter(groups[0].params[0], std::string("x")), std::invalid_argument);  // a number
 }
 

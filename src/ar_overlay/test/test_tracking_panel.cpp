@@ -2,11 +2,11 @@
 // real pose_ekf nodelet's dynamic_reconfigure server (tracking_panel.test), and
 // its mask preview showing an image published here.
 #include <gtest/gtest.h>
-#include <pluginlib/class_loader.hpp>
 #include <ros/ros.h>
 #include <rviz/config.h>
 #include <rviz/panel.h>
 #include <sensor_msgs/Image.h>
+#include <pluginlib/class_loader.hpp>
 
 #include <QApplication>
 #include <QCheckBox>

@@ -29,9 +29,7 @@ class Monitor {
     info_sub_ = nh.subscribe("camera/camera_info", 2, &Monitor::OnInfo, this);
     image_sub_ = nh.subscribe("ar_overlay/image", 30, &Monitor::OnImage, this);
   }
-  ~Monitor() {
-    ROS_INFO("platform monitor: %d frames, %d with dots measured, %d dots", frames_, measured_, dots_);
-  }
+  ~Monitor() { ROS_INFO("platform monitor: %d frames, %d with dots measured, %d dots", frames_, measured_, dots_); }
 
  private:
   void OnInfo(const sensor_msgs::CameraInfoConstPtr& info) { info_ = info; }

@@ -47,8 +47,8 @@ std::vector<DotError> MeasureAlignment(const cv::Mat& bgr, const CameraIntrinsic
 
 struct AlignmentStats {
   size_t dots = 0;
-  cv::Point2d mean_px, std_px;        // image x (right) and y (down)
-  cv::Point2d mean_inch, std_inch;    // the same on the platform, through each cell's scale
+  cv::Point2d mean_px, std_px;      // image x (right) and y (down)
+  cv::Point2d mean_inch, std_inch;  // the same on the platform, through each cell's scale
 };
 AlignmentStats Summarize(const std::vector<DotError>& errors);
 

@@ -56,8 +56,8 @@ class Renderer {
   std::unique_ptr<DistortionMap> map_;
   std::unique_ptr<Gl> gl_;
   cv::Mat canvas_;
-  cv::Rect canvas_written_;  // canvas_ is zero outside it
-  cv::Mat overlay_;          // what Render hands out,
+  cv::Rect canvas_written_;   // canvas_ is zero outside it
+  cv::Mat overlay_;           // what Render hands out,
   cv::Rect overlay_written_;  // zero outside this
   // Where the items can appear on the canvas: their bounding boxes projected.
   cv::Rect CanvasRoi(const std::vector<DrawItem>& items, const Eigen::Matrix4f& T_camera_cones) const;

@@ -8,11 +8,16 @@ namespace ar_overlay {
 namespace {
 
 bool Kind(const std::string& type, ParamKind* kind) {
-  if (type == "bool") *kind = ParamKind::kBool;
-  else if (type == "int") *kind = ParamKind::kInt;
-  else if (type == "double") *kind = ParamKind::kDouble;
-  else if (type == "str") *kind = ParamKind::kString;
-  else return false;
+  if (type == "bool")
+    *kind = ParamKind::kBool;
+  else if (type == "int")
+    *kind = ParamKind::kInt;
+  else if (type == "double")
+    *kind = ParamKind::kDouble;
+  else if (type == "str")
+    *kind = ParamKind::kString;
+  else
+    return false;
   return true;
 }
 
