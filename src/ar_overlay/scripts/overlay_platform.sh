@@ -11,7 +11,8 @@ OUT="$(realpath -m "${1:?usage: overlay_platform.sh OUT_DIR [trials] [duration_s
 TRIALS="${2:-3}"
 DURATION="${3:-30}"
 RATE="${4:-0.5}"
-HERE="$(cd "$(dirname "$0")" && pwd)"
+HERE="$(cd "$(dirname "$0")" && pwd -P)"
+REPLAY="$(realpath "$HERE/../../../launch/replay.launch")"
 LAYOUT="$(rospack find rig_sim)/config/layouts/platform.yaml"
 EKF_BASE="$(rospack find ar_bringup)/config/pose_ekf_rig_sim.yaml"
 WORK="$OUT/overlay_platform"
@@ -47,7 +48,7 @@ for ((trial = 1; trial <= TRIALS; trial++)); do
   for gyro in true false; do
     # As in the thesis, the accelerometers stay out of the filter in both runs (ch. 8).
     { cat "$EKF_BASE"; printf 'use_gyro: %s\nuse_accel: false\n' "$gyro"; } > "$WORK/ekf_gyro_$gyro.yaml"
-    run "trial${trial}_gyro_${gyro}" bag:="$bag" pose:=ekf heading_prior_deg:="$heading" \
+    run "trial${trial}_gyro_${gyro}" bag:="$bag" pose:=ekf heading_prior_deg:="$heading" replay_launch:="$REPLAY" \
       ekf_config:="$WORK/ekf_gyro_$gyro.yaml"
   done
   run "trial${trial}_truth" bag:="$bag" pose:=truth

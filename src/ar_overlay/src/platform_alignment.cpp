@@ -18,39 +18,51 @@ std::vector<cv::Point2d> Undistort(const std::vector<cv::Point2d>& raw, const Ca
   return out;
 }
 
-// Where segments a0-a1 and b0-b1 cross; false when they are parallel.
-bool Cross(const cv::Point2d& a0, const cv::Point2d& a1, const cv::Point2d& b0, const cv::Point2d& b1, cv::Point2d* p) {
-  const cv::Point2d da = a1 - a0, db = b1 - b0;
-  const double den = da.x * db.y - da.y * db.x;
-  if (std::abs(den) < 1e-9) return false;
-  const cv::Point2d w = b0 - a0;
-  *p = a0 + da * ((w.x * db.y - w.y * db.x) / den);
-  return true;
+cv::Point2d Apply(const cv::Matx33d& H, const cv::Point2d& p) {
+  const cv::Vec3d q = H * cv::Vec3d(p.x, p.y, 1.0);
+  return {q[0] / q[2], q[1] / q[2]};
 }
 
-// The four blue centres around `red`, in angular order, if they form a grid
-// cell that contains it: every angular gap under 180 degrees and no side more
-// than three times another (perspective stretches a cell, it does not fold it).
-bool CellAround(const cv::Point2d& red, const std::vector<cv::Point2d>& blue, cv::Point2d corners[4]) {
-  if (blue.size() < 4) return false;
-  std::vector<std::pair<double, size_t>> by_distance;
-  for (size_t i = 0; i < blue.size(); ++i) by_distance.push_back({cv::norm(blue[i] - red), i});
-  std::partial_sort(by_distance.begin(), by_distance.begin() + 4, by_distance.end());
-  std::vector<std::pair<double, cv::Point2d>> by_angle;
-  for (int i = 0; i < 4; ++i) {
-    const cv::Point2d& b = blue[by_distance[i].second];
-    by_angle.push_back({std::atan2(b.y - red.y, b.x - red.x), b});
+// The homography from grid indices (column, row) to undistorted pixels, from
+// every blue dot: the outline's four corners give a first guess, which names
+// each dot's indices, and all dots then fit the final one. A local choice of
+// four dots is not enough: seen obliquely, skewed quadrilaterals of dots from
+// three rows are as small as the true cell. The grid is square, so which
+// corner is (0, 0) does not matter. False unless every dot is seen once.
+bool GridHomography(const std::vector<cv::Point2d>& blue, int n, cv::Matx33d* H_image_grid) {
+  if (n < 2 || static_cast<int>(blue.size()) != n * n) return false;
+  std::vector<cv::Point2f> points(blue.begin(), blue.end()), hull, corners;
+  cv::convexHull(points, hull);
+  if (hull.size() < 4) return false;
+  // The grid's corners are the outline's four sharpest turns; dots along its
+  // sides turn by almost nothing.
+  std::vector<std::pair<double, size_t>> turn;
+  for (size_t i = 0; i < hull.size(); ++i) {
+    const cv::Point2f a = hull[(i + hull.size() - 1) % hull.size()] - hull[i],
+                      b = hull[(i + 1) % hull.size()] - hull[i];
+    turn.push_back({a.dot(b) / (cv::norm(a) * cv::norm(b) + 1e-12), i});  // cos of the inner angle: larger is sharper
   }
-  std::sort(by_angle.begin(), by_angle.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  double shortest = 1e300, longest = 0;
-  for (int i = 0; i < 4; ++i) {
-    double gap = (i < 3 ? by_angle[i + 1].first : by_angle[0].first + 2 * M_PI) - by_angle[i].first;
-    if (gap >= M_PI) return false;
-    corners[i] = by_angle[i].second;
-    const double side = cv::norm(by_angle[(i + 1) % 4].second - by_angle[i].second);
-    shortest = std::min(shortest, side), longest = std::max(longest, side);
+  std::partial_sort(turn.begin(), turn.begin() + 4, turn.end(),
+                    [](const auto& x, const auto& y) { return x.first > y.first; });
+  std::vector<size_t> keep = {turn[0].second, turn[1].second, turn[2].second, turn[3].second};
+  std::sort(keep.begin(), keep.end());  // back in the outline's order
+  for (size_t i : keep) corners.push_back(hull[i]);
+  const float last = static_cast<float>(n - 1);
+  const std::vector<cv::Point2f> grid_corners = {{0, 0}, {last, 0}, {last, last}, {0, last}};
+  const cv::Matx33d guess = cv::getPerspectiveTransform(grid_corners, corners);
+  std::vector<cv::Point2d> grid, image;
+  std::vector<char> taken(static_cast<size_t>(n * n), 0);
+  for (const cv::Point2d& p : blue) {
+    const cv::Point2d g = Apply(guess.inv(), p);
+    const int c = static_cast<int>(std::lround(g.x)), r = static_cast<int>(std::lround(g.y));
+    if (c < 0 || r < 0 || c >= n || r >= n || taken[static_cast<size_t>(r * n + c)]++) return false;
+    grid.emplace_back(c, r);
+    image.push_back(p);
   }
-  return longest < 3.0 * shortest;
+  const cv::Mat H = cv::findHomography(grid, image, 0);
+  if (H.empty()) return false;
+  *H_image_grid = cv::Matx33d(H);
+  return true;
 }
 
 }  // namespace
@@ -95,11 +107,18 @@ std::vector<DotError> MeasureAlignment(const cv::Mat& bgr, const CameraIntrinsic
   red = Undistort(red, k);
   blue = Undistort(blue, k);
   std::vector<DotError> errors;
+  cv::Matx33d H;
+  if (!GridHomography(blue, config.grid_size, &H)) return errors;
+  const cv::Matx33d H_grid_image = H.inv();
+  const double last_cell = config.grid_size - 2;
   for (const cv::Point2d& r : red) {
-    cv::Point2d c[4], middle;
-    if (!CellAround(r, blue, c) || !Cross(c[0], c[2], c[1], c[3], &middle)) continue;
-    const double side =
-        0.25 * (cv::norm(c[1] - c[0]) + cv::norm(c[2] - c[1]) + cv::norm(c[3] - c[2]) + cv::norm(c[0] - c[3]));
+    const cv::Point2d g = Apply(H_grid_image, r);
+    // The red dot's cell; one beyond the grid is an error of a whole cell, not a cell of its own.
+    const double c = std::clamp(std::floor(g.x), 0.0, last_cell), w = std::clamp(std::floor(g.y), 0.0, last_cell);
+    const cv::Point2d k00 = Apply(H, {c, w}), k10 = Apply(H, {c + 1, w}), k11 = Apply(H, {c + 1, w + 1}),
+                      k01 = Apply(H, {c, w + 1});
+    const cv::Point2d middle = Apply(H, {c + 0.5, w + 0.5});
+    const double side = 0.25 * (cv::norm(k10 - k00) + cv::norm(k11 - k10) + cv::norm(k01 - k11) + cv::norm(k00 - k01));
     errors.push_back({r, middle, r - middle, config.spacing_m / side});
   }
   return errors;

@@ -1,9 +1,9 @@
 // The overlay test platform's measurement (thesis 7.2): in a composited frame,
 // segment the real blue dots and the virtual red dots; each red dot should lie
-// in the middle of the four blue dots around it. The middle is where the
-// diagonals of those four (undistorted) centres cross: the image of the cell's
-// centre under any perspective view, so no pose or model is needed. The pixel
-// error becomes a distance on the platform through the cell's own size.
+// in the middle of the four blue dots around it. The middle comes from the
+// homography of the blue grid (undistorted centres, every dot): the image of
+// the cell's centre under any perspective view, so no pose or model is needed.
+// The pixel error becomes a distance on the platform through the cell's own size.
 #pragma once
 
 #include <opencv2/core.hpp>
@@ -15,6 +15,7 @@ namespace ar_overlay {
 
 struct AlignmentConfig {
   double spacing_m = 0.1;        // between neighbouring blue dots on the platform
+  int grid_size = 5;             // blue dots per row and per column (a square grid)
   double min_area_px = 6.0;      // blobs smaller are noise
   double max_area_px = 20000.0;  // blobs larger are not dots (sky, the platform's sides)
   double min_fill = 0.5;         // blob area / bounding box area: dots are round, sky is not
@@ -40,8 +41,8 @@ enum class DotColour { kRed, kBlue };
 cv::Mat DotMask(const cv::Mat& bgr, DotColour colour);
 std::vector<DotBlob> SegmentDots(const cv::Mat& bgr, DotColour colour, const AlignmentConfig& config);
 
-// Red dots of one frame with their errors; red dots without four blue dots
-// around them (at the grid's edge, off screen, occluded) are left out.
+// Red dots of one frame with their errors; none unless the whole blue grid is
+// seen (a cone in front of it, or the platform cut by the image border).
 // k: the frame's camera (its distortion is undone before the geometry).
 std::vector<DotError> MeasureAlignment(const cv::Mat& bgr, const CameraIntrinsics& k, const AlignmentConfig& config);
 
