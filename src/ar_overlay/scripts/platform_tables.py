@@ -21,16 +21,23 @@ THESIS = {
 }
 
 
-def load(path):
-    """Per-dot errors (px) and scale (inch per px), and the number of frames with a measurement."""
+def load(path, spacing_m=0.1):
+    """Per-dot errors (px, inch) of the dots within half a cell of their place, the number of dots
+    further off (the overlay is lost: which cell such a dot belongs to, and so its error, means
+    nothing, so they are counted, not averaged), and the number of frames measured."""
     rows = []
     if os.path.exists(path):
         with open(path) as f:
             rows = list(csv.DictReader(f))
-    px = [(float(r["error_x_px"]), float(r["error_y_px"])) for r in rows]
-    inch = [(ex * float(r["m_per_px"]) / INCH_M, ey * float(r["m_per_px"]) / INCH_M)
-            for (ex, ey), r in zip(px, rows)]
-    return px, inch, len({r["stamp_s"] for r in rows})
+    px, inch, lost = [], [], 0
+    for r in rows:
+        ex, ey, m_per_px = float(r["error_x_px"]), float(r["error_y_px"]), float(r["m_per_px"])
+        if max(abs(ex), abs(ey)) * m_per_px >= spacing_m / 2:
+            lost += 1
+            continue
+        px.append((ex, ey))
+        inch.append((ex * m_per_px / INCH_M, ey * m_per_px / INCH_M))
+    return px, inch, lost, len({r["stamp_s"] for r in rows})
 
 
 def stats(pairs):
@@ -45,29 +52,31 @@ def stats(pairs):
 
 
 def tables(folder, trials):
-    out, summary = [], []
+    out, summary = ["frames: overlay frames with the whole blue grid seen; dots: red dots within half a cell of "
+                    "their place (µ and σ over these); lost: red dots further off (the overlay has lost the "
+                    "platform; counted, not averaged). x is image right, y image down.", ""], []
     titles = {"false": "Figure 7.8 equivalent: overlay accuracy without gyros",
               "true": "Figure 7.9 equivalent: overlay accuracy with gyros",
               "truth": "Measurement floor: overlay drawn at the true pose (rig_sim)"}
     for run in ("false", "true", "truth"):
         out.append("### " + titles[run] + "\n")
-        out.append("| trial | frames | dots | µx in | µy in | σx in | σy in | µx px | µy px | σx px | σy px |"
+        out.append("| trial | frames | dots | lost | µx in | µy in | σx in | σy in | µx px | µy px | σx px | σy px |"
                    + (" thesis µx | µy | σx | σy (in) |" if run != "truth" else ""))
-        out.append("|---" * (11 + (4 if run != "truth" else 0)) + "|")
+        out.append("|---" * (12 + (4 if run != "truth" else 0)) + "|")
         for t in range(1, trials + 1):
             name = "trial%d_%s" % (t, run if run == "truth" else "gyro_" + run)
-            px, inch, frames = load(os.path.join(folder, name + ".csv"))
+            px, inch, lost, frames = load(os.path.join(folder, name + ".csv"))
             si, sp = stats(inch), stats(px)
-            row = "| %d | %d | %d | " % (t, frames, len(px)) + " | ".join("%.4f" % v for v in si + sp) + " |"
+            row = "| %d | %d | %d | %d | " % (t, frames, len(px), lost) + " | ".join("%.4f" % v for v in si + sp) + " |"
             if run != "truth":
                 th = THESIS[run][t - 1] if t <= 3 else (float("nan"),) * 4
                 row += " " + " | ".join("%.4f" % v for v in th) + " |"
             out.append(row)
-            summary.append([name, frames, len(px)] + ["%.5f" % v for v in si + sp])
+            summary.append([name, frames, len(px), lost] + ["%.5f" % v for v in si + sp])
         out.append("")
     with open(os.path.join(folder, "summary.csv"), "w") as f:
         w = csv.writer(f)
-        w.writerow(["run", "frames", "dots", "mu_x_in", "mu_y_in", "sigma_x_in", "sigma_y_in",
+        w.writerow(["run", "frames", "dots", "lost_dots", "mu_x_in", "mu_y_in", "sigma_x_in", "sigma_y_in",
                     "mu_x_px", "mu_y_px", "sigma_x_px", "sigma_y_px"])
         w.writerows(summary)
     return "\n".join(out)

@@ -64,7 +64,7 @@ def main():
     pubs = {
         "image": rospy.Publisher("camera/image_raw", Image, queue_size=2),
         "info": rospy.Publisher("camera/camera_info", CameraInfo, queue_size=2),
-        "cones": rospy.Publisher("cone_tracker/cones", MarkerArray, queue_size=1, latch=True),
+        "cones": rospy.Publisher("rig_sim/cones", MarkerArray, queue_size=1, latch=True),
         "meas": rospy.Publisher("cone_tracker/pose", PoseWithCovarianceStamped, queue_size=5),
         "ekf": rospy.Publisher("pose_ekf/pose", PoseWithCovarianceStamped, queue_size=5),
         "odom": rospy.Publisher("pose_ekf/odometry", Odometry, queue_size=5),
