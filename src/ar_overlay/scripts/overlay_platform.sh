@@ -52,5 +52,6 @@ for ((trial = 1; trial <= TRIALS; trial++)); do
       ekf_config:="$WORK/ekf_gyro_$gyro.yaml"
   done
   run "trial${trial}_truth" bag:="$bag" pose:=truth
+  rm -f "$bag"  # about 70 MB per second of 1024x768 frames; the seed regenerates it
 done
 /usr/bin/python3 "$HERE/platform_tables.py" --tables "$WORK" "$TRIALS" | tee "$OUT/overlay_platform.md"
