@@ -78,6 +78,9 @@ std::string SegmenterConfig::Validate() const {
   if (!(min_axis_ratio >= 1.0) || !(max_axis_ratio >= min_axis_ratio)) return "axis ratio bounds invalid";
   if (!(max_tilt_deg >= 0.0 && max_tilt_deg <= 90.0)) return "max_tilt_deg must be in [0, 90]";
   if (line_search_misses < 1) return "line_search_misses must be >= 1";
+  if (!(outline.outlier_px > 0.0) || !(outline.max_edge_rms_px > 0.0)) return "outline pixel bounds must be > 0";
+  if (!(outline.min_inlier_frac >= 0.0 && outline.min_inlier_frac <= 1.0)) return "outline.min_inlier_frac must be in [0, 1]";
+  if (!(template_search_px >= 0.0 && template_search_px <= 32.0)) return "template_search_px must be in [0, 32]";
   return "";
 }
 
@@ -87,6 +90,11 @@ void Segmenter::SetConfig(const SegmenterConfig& config) {
   const std::string error = config.Validate();
   if (!error.empty()) throw std::invalid_argument("SegmenterConfig: " + error);
   lut_.Build(config.hsi);
+  if (config.refinement == PeakRefinement::kTemplates && !templates_) {
+    TemplateSetConfig tc;
+    tc.max_tilt_deg = std::max(config.max_tilt_deg, 3.0);
+    templates_ = std::make_shared<const ConeTemplateSet>(tc);  // 3.1.5.4: the whole set at start-up
+  }
   config_ = config;
 }
 
@@ -144,7 +152,7 @@ bool Segmenter::Classify(const ImageView& in, SegmentationResult* out) {
   return true;
 }
 
-void Segmenter::Measure(const MaskView& mask, ConeDetection* det) const {
+bool Segmenter::Measure(const MaskView& mask, const CameraModel& camera, ConeDetection* det) const {
   const Blob& b = det->blob;
   const Eigen::Vector2d axis(std::cos(b.orientation_rad), std::sin(b.orientation_rad));
   // Extent of the blob along its axis; a merged blob's line search may cross
@@ -174,11 +182,43 @@ void Segmenter::Measure(const MaskView& mask, ConeDetection* det) const {
   // A cone's centroid lies nearer its base (a third of the height for a triangle).
   const int peak_side = reach[0] >= reach[1] ? 0 : 1;
   const Eigen::Vector2d dir_peak = peak_side == 0 ? axis : Eigen::Vector2d(-axis);
-  // A failed fit keeps the line search's end (no gate on it: the extent
-  // profile of collared cones is not yet clean enough to reject on).
-  RefinePeak(b, dir_peak, reach[peak_side], &det->peak_px);
+  const Eigen::Vector2d search_peak = b.centroid + reach[peak_side] * dir_peak;
+  det->peak_px = search_peak;
   det->base_px = b.centroid - reach[1 - peak_side] * dir_peak;
   det->mid_px = 0.5 * (det->peak_px + det->base_px);
+  if (det->failed_gates != 0) return false;
+  switch (config_.refinement) {
+    case PeakRefinement::kOutline: {
+      const OutlineFit fit = FitConeOutline(b.runs, search_peak, det->base_px, camera, config_.outline);
+      if (fit.ok) {
+        det->peak_px = fit.peak_px, det->base_px = fit.base_px;
+        det->peak_undist_px = fit.peak_undist_px, det->base_undist_px = fit.base_undist_px;
+        return true;
+      }
+      if (fit.why.find("distortion") != std::string::npos) {  // a broken camera model, not a bad blob
+        det->failed_gates |= kGateUndistort;
+        return false;
+      }
+      if (config_.reject_bad_outline) {
+        det->failed_gates |= kGateOutline;
+        return false;
+      }
+      // Kept for photos: the apex from the blob's extent profile.
+      RefinePeak(b, dir_peak, reach[peak_side], &det->peak_px);
+      det->mid_px = 0.5 * (det->peak_px + det->base_px);
+      return false;
+    }
+    case PeakRefinement::kTemplates: {
+      const TemplateMatch m =
+          templates_->Refine(mask, search_peak, det->base_px, int(std::lround(config_.template_search_px)));
+      if (m.ok) det->peak_px = m.peak_px, det->base_px = m.base_px;
+      det->mid_px = 0.5 * (det->peak_px + det->base_px);
+      return false;
+    }
+    case PeakRefinement::kNone:
+      break;
+  }
+  return false;
 }
 
 SegmentationResult Segmenter::Process(const ImageView& image, const CameraModel& camera) {
@@ -204,8 +244,16 @@ SegmentationResult Segmenter::Process(const ImageView& image, const CameraModel&
     if (d.axis_ratio < c.min_axis_ratio || d.axis_ratio > c.max_axis_ratio) det.failed_gates |= kGateAxisRatio;
     if (std::abs(std::cos(d.orientation_rad)) > std::sin(c.max_tilt_deg * M_PI / 180.0))
       det.failed_gates |= kGateTilt;  // |angle from vertical| > max_tilt
-    if (det.failed_gates == 0) Measure(mask, &det);
-    if (det.failed_gates == 0) {
+    const bool undistorted = det.failed_gates == 0 && Measure(mask, camera, &det);
+    if (undistorted) {
+      // The mid-height point on the axis; it is not a measured point.
+      det.mid_undist_px = 0.5 * (det.peak_undist_px + det.base_undist_px);
+      std::vector<Eigen::Vector2d> mid = {det.mid_undist_px};
+      if (DistortPixels(camera, &mid))
+        det.mid_px = mid[0];
+      else
+        det.failed_gates |= kGateUndistort;
+    } else if (det.failed_gates == 0) {
       std::vector<Eigen::Vector2d> pts = {det.peak_px, det.mid_px, det.base_px};
       if (UndistortPixels(camera, &pts))
         det.peak_undist_px = pts[0], det.mid_undist_px = pts[1], det.base_undist_px = pts[2];
@@ -229,7 +277,10 @@ bool UndistortPixels(const CameraModel& camera, std::vector<Eigen::Vector2d>* po
   std::vector<cv::Point2d> src, dst;
   for (const auto& p : *points) src.emplace_back(p.x(), p.y());
   try {
-    cv::undistortPoints(src, dst, K, camera.distortion, cv::noArray(), K);  // (3.11) iteratively
+    // (3.11) iteratively, to convergence: OpenCV's default of 5 iterations
+    // leaves tenths of a pixel at the corners with this lens.
+    cv::undistortPoints(src, dst, K, camera.distortion, cv::noArray(), K,
+                        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 1e-10));
   } catch (const cv::Exception&) {
     return false;
   }
