@@ -1,6 +1,7 @@
 #include "cone_tracker/vision/segmenter.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -61,6 +62,20 @@ bool RefinePeak(const Blob& b, const Eigen::Vector2d& dir, double reach, Eigen::
   const double s_slope = (n * sts - st * ss) / det, s0 = (ss - s_slope * st) / n + s_slope * t0;
   *peak = b.centroid + t0 * dir + s0 * Eigen::Vector2d(dir.y(), -dir.x());
   return true;
+}
+
+// Cone pixels on the axis beyond the base, within a height of it (a few
+// pixels either side of the axis).
+bool OrangeBelowBase(const MaskView& mask, const Eigen::Vector2d& peak, const Eigen::Vector2d& base) {
+  const Eigen::Vector2d axis = base - peak;
+  const double h = axis.norm();
+  const Eigen::Vector2d d = axis / h, e(d.y(), -d.x());
+  for (double t = 3.0; t <= std::max(8.0, h); t += 1.0)
+    for (double s : {-2.0, 0.0, 2.0}) {
+      const Eigen::Vector2d p = base + t * d + s * e;
+      if (mask.At(int(std::lround(p.x())), int(std::lround(p.y())))) return true;
+    }
+  return false;
 }
 
 }  // namespace
@@ -190,6 +205,13 @@ bool Segmenter::Measure(const MaskView& mask, const CameraModel& camera, ConeDet
   switch (config_.refinement) {
     case PeakRefinement::kOutline: {
       const OutlineFit fit = FitConeOutline(b.runs, search_peak, det->base_px, camera, config_.outline);
+      if (fit.ok && OrangeBelowBase(mask, fit.peak_px, fit.base_px)) {
+        // The tip of a collared cone whose body did not merge (it is hidden,
+        // or merged with something orange and rejected): its collar's rim
+        // looks like a base arc.
+        det->failed_gates |= kGateOutline;
+        return false;
+      }
       if (fit.ok) {
         det->peak_px = fit.peak_px, det->base_px = fit.base_px;
         det->peak_undist_px = fit.peak_undist_px, det->base_undist_px = fit.base_undist_px;
@@ -221,15 +243,27 @@ bool Segmenter::Measure(const MaskView& mask, const CameraModel& camera, ConeDet
   return false;
 }
 
+namespace {
+double MsSince(std::chrono::steady_clock::time_point* t) {
+  const auto now = std::chrono::steady_clock::now();
+  const double ms = std::chrono::duration<double, std::milli>(now - *t).count();
+  *t = now;
+  return ms;
+}
+}  // namespace
+
 SegmentationResult Segmenter::Process(const ImageView& image, const CameraModel& camera) {
   SegmentationResult result;
+  auto t = std::chrono::steady_clock::now();
   if (!Classify(image, &result)) return result;
+  result.classify_ms = MsSince(&t);
   result.ok = true;
   if (result.roi_w <= 0) return result;
   const MaskView mask{mask_.data(), image.width, image.height, image.width};
   std::vector<Blob> blobs = FindBlobs(mask, result.roi_x, result.roi_y, result.roi_x + result.roi_w,
                                       result.roi_y + result.roi_h, config_.min_fragment_area_px);
   MergeAlongAxes(&blobs, config_.merge_lateral_frac, config_.merge_gap_frac);
+  result.blobs_ms = MsSince(&t);
   const SegmenterConfig& c = config_;
   for (Blob& b : blobs) {
     ConeDetection det;
@@ -266,6 +300,7 @@ SegmentationResult Segmenter::Process(const ImageView& image, const CameraModel&
   }
   std::sort(result.cones.begin(), result.cones.end(),
             [](const ConeDetection& a, const ConeDetection& b) { return a.peak_px.x() < b.peak_px.x(); });
+  result.measure_ms = MsSince(&t);
   return result;
 }
 
