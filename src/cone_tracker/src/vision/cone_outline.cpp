@@ -168,6 +168,7 @@ OutlineFit FitConeOutline(const std::vector<Run>& runs, const Eigen::Vector2d& p
   const Eigen::Vector3d apex_h = l1.cross(l2);
   if (!(std::abs(apex_h.z()) > 1e-12)) return out.why = "parallel edges", out;
   const Eigen::Vector2d apex = apex_h.head<2>() / apex_h.z();
+  if (!apex.allFinite()) return out.why = "no apex", out;
   // The binary tip ends where the silhouette gets narrower than about a
   // pixel, short of the apex; no cone pixel lies beyond the apex.
   const double tan_half = std::tan(0.5 * std::abs(std::atan(fl.b) - std::atan(fr.b)));
@@ -221,6 +222,7 @@ OutlineFit FitConeOutline(const std::vector<Run>& runs, const Eigen::Vector2d& p
     if (!(out.arc_rms_px <= config.max_edge_rms_px)) return out.why = "base arc not an ellipse", out;
   }
   const Eigen::Vector2d base = apex + t_base * d;
+  if (!base.allFinite()) return out.why = "no base", out;
   std::vector<Eigen::Vector2d> raw = {apex, base};
   if (!DistortPixels(camera, &raw)) return out.why = "distortion failed", out;
   out.peak_undist_px = apex, out.base_undist_px = base;

@@ -69,6 +69,7 @@ bool RefinePeak(const Blob& b, const Eigen::Vector2d& dir, double reach, Eigen::
 bool OrangeBelowBase(const MaskView& mask, const Eigen::Vector2d& peak, const Eigen::Vector2d& base) {
   const Eigen::Vector2d axis = base - peak;
   const double h = axis.norm();
+  if (!(h > 0.0 && h < 1e5)) return false;
   const Eigen::Vector2d d = axis / h, e(d.y(), -d.x());
   for (double t = 3.0; t <= std::max(8.0, h); t += 1.0)
     for (double s : {-2.0, 0.0, 2.0}) {
