@@ -33,10 +33,11 @@ TrackingPanel::TrackingPanel(QWidget* parent) : rviz::Panel(parent) {
   auto* body = new QWidget;
   auto* column = new QVBoxLayout(body);
   column->addLayout(settings);
+  // The switches and the colour bounds with their mask first: what a user changes while looking.
   column->addWidget(ekf_switches_);
-  column->addWidget(ekf_noise_);
   column->addWidget(colour_);
   column->addWidget(mask_, 1);
+  column->addWidget(ekf_noise_);
   auto* scroll = new QScrollArea;
   scroll->setWidget(body);
   scroll->setWidgetResizable(true);
