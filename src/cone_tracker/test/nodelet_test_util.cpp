@@ -41,10 +41,11 @@ NodeletRig::NodeletRig() {
   info_pub = nh.advertise<sensor_msgs::CameraInfo>("camera/camera_info", 1, /*latch=*/true);
   diag_sub_ = nh.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 50, [this](const auto& m) {
     for (const auto& s : m->status) {
-      if (s.name != "cone_tracker: tracker") continue;
-      status = TrackerStatus();
-      status.level = s.level, status.message = s.message;
-      for (const auto& kv : s.values) status.values[kv.key] = kv.value;
+      TrackerStatus t;
+      t.level = s.level, t.message = s.message;
+      for (const auto& kv : s.values) t.values[kv.key] = kv.value;
+      statuses[s.name] = t;
+      if (s.name == "cone_tracker: tracker") status = t;
     }
   });
   pose_sub_ = nh.subscribe<geometry_msgs::PoseWithCovarianceStamped>(

@@ -42,7 +42,8 @@ class NodeletRig {
 
   ros::NodeHandle nh;
   ros::Publisher image_pub, info_pub;
-  TrackerStatus status;
+  TrackerStatus status;                           // "cone_tracker: tracker", the latest
+  std::map<std::string, TrackerStatus> statuses;  // every status on /diagnostics by name, the latest
   std::set<uint64_t> pose_stamps;
 
  private:

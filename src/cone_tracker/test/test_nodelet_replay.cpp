@@ -7,6 +7,7 @@
 
 #include <cstdio>
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include "bag_replay.h"
@@ -21,6 +22,7 @@ struct Listener {
   std::map<uint64_t, geometry_msgs::PoseWithCovarianceStamped> poses;
   std::map<uint64_t, ConeDetections> detections;
   visualization_msgs::MarkerArrayConstPtr markers;
+  std::map<std::string, std::string> diagnostics;  // the latest "cone_tracker: tracker" values
   std::vector<ros::Subscriber> subs;
   explicit Listener(ros::NodeHandle& nh) {
     subs.push_back(nh.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
@@ -29,6 +31,11 @@ struct Listener {
                                                 [this](const auto& m) { detections[m->header.stamp.toNSec()] = *m; }));
     subs.push_back(
         nh.subscribe<visualization_msgs::MarkerArray>("cone_tracker/cones", 1, [this](const auto& m) { markers = m; }));
+    subs.push_back(nh.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10, [this](const auto& m) {
+      for (const auto& s : m->status)
+        if (s.name == "cone_tracker: tracker")
+          for (const auto& kv : s.values) diagnostics[kv.key] = kv.value;
+    }));
   }
 };
 
@@ -77,6 +84,16 @@ TEST(NodeletReplay, HandheldSampleInLockstep) {
     for (const auto& c : d.detections) EXPECT_LT(c.cone_id, int(layout.size()));
   }
   for (const auto& [stamp, p] : listener.poses) EXPECT_EQ(p.header.frame_id, "cones");
+
+  // The nodelet's own account of the run (the latencies are wall-clock figures on a shared machine:
+  // printed, not asserted).
+  ASSERT_TRUE(SpinUntil([&] { return listener.diagnostics["frames"] == "240"; }, 5.0))
+      << "frames in /diagnostics: " << listener.diagnostics["frames"];
+  EXPECT_EQ(listener.diagnostics["poses published"], std::to_string(listener.poses.size()));
+  for (const char* key :
+       {"processing time mean (ms)", "processing time max (ms)", "cones found (mean per segmented frame)",
+        "rejected by chi-square gate", "frames with too few cones"})
+    std::printf("DIAGNOSTICS %s: %s\n", key, listener.diagnostics[key].c_str());
 
   ASSERT_TRUE(listener.markers) << "no latched cone_tracker/cones";
   int cones = 0;

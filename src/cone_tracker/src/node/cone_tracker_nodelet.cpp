@@ -12,6 +12,7 @@
 #include <tf2_ros/transform_listener.h>
 #include <pluginlib/class_list_macros.hpp>
 
+#include <algorithm>
 #include <memory>
 #include <optional>
 #include <set>
@@ -123,6 +124,10 @@ void ConeTrackerNodelet::onInit() {
   current.min_axis_ratio = s.min_axis_ratio, current.max_axis_ratio = s.max_axis_ratio;
   current.max_tilt_deg = s.max_tilt_deg;
   current.merge_lateral_frac = s.merge_lateral_frac, current.merge_gap_frac = s.merge_gap_frac;
+  current.peak_refinement = int(s.refinement == PeakRefinement::kOutline     ? 0
+                                : s.refinement == PeakRefinement::kTemplates ? 1
+                                                                             : 2);
+  current.reject_bad_outline = s.reject_bad_outline;
   const ConePoseConfig& p = config.pose;
   current.sigma_px = p.sigma_px, current.max_assignment_px = p.max_assignment_px;
   current.chi2_probability = p.chi2_probability;
@@ -149,6 +154,10 @@ void ConeTrackerNodelet::OnReconfigure(ConeTrackerConfig& cfg, uint32_t /*level*
   s.min_solidity = cfg.min_solidity, s.max_solidity = cfg.max_solidity;
   s.min_axis_ratio = cfg.min_axis_ratio, s.max_axis_ratio = cfg.max_axis_ratio, s.max_tilt_deg = cfg.max_tilt_deg;
   s.merge_lateral_frac = cfg.merge_lateral_frac, s.merge_gap_frac = cfg.merge_gap_frac;
+  static const PeakRefinement kRefinements[] = {PeakRefinement::kOutline, PeakRefinement::kTemplates,
+                                                PeakRefinement::kNone};
+  s.refinement = kRefinements[std::clamp(cfg.peak_refinement, 0, 2)];
+  s.reject_bad_outline = cfg.reject_bad_outline;
   ConePoseConfig& p = c.pose;
   p.sigma_px = cfg.sigma_px, p.max_assignment_px = cfg.max_assignment_px, p.chi2_probability = cfg.chi2_probability;
   p.max_translation_change_m = cfg.max_translation_change_m, p.max_rotation_change_deg = cfg.max_rotation_change_deg;

@@ -2,6 +2,7 @@
 
 #include <ros/node_handle.h>
 
+#include <cmath>
 #include <stdexcept>
 
 namespace cone_tracker {
@@ -31,11 +32,36 @@ void Get(const ros::NodeHandle& nh, const std::string& name, double* value) {
   }
 }
 
+// Integers: roscpp would silently truncate 2.5 to 2.
+void Get(const ros::NodeHandle& nh, const std::string& name, int* value) {
+  if (!nh.hasParam(name)) return;
+  XmlRpc::XmlRpcValue v;
+  nh.getParam(name, v);
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) {
+    *value = static_cast<int>(v);
+  } else if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble && static_cast<double>(v) == std::round(double(v))) {
+    *value = int(static_cast<double>(v));
+  } else {
+    throw std::invalid_argument("parameter ~" + name + " must be an integer");
+  }
+}
+
 void Check(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("parameter ~" + what);
 }
 
 }  // namespace
+
+PeakRefinement ParsePeakRefinement(const std::string& name) {
+  if (name == "outline") return PeakRefinement::kOutline;
+  if (name == "templates") return PeakRefinement::kTemplates;
+  if (name == "none") return PeakRefinement::kNone;
+  throw std::invalid_argument("parameter ~peak_refinement must be outline, templates or none (got '" + name + "')");
+}
+
+std::string PeakRefinementName(PeakRefinement r) {
+  return r == PeakRefinement::kOutline ? "outline" : r == PeakRefinement::kTemplates ? "templates" : "none";
+}
 
 void ValidateConfig(const NodeConfig& c) {
   Check(!c.fixed_frame.empty(), "fixed_frame must not be empty");
@@ -86,6 +112,13 @@ NodeConfig LoadConfig(const ros::NodeHandle& nh) {
   Get(nh, "max_axis_ratio", &s.max_axis_ratio);
   Get(nh, "max_tilt_deg", &s.max_tilt_deg);
   Get(nh, "line_search_misses", &s.line_search_misses);
+  std::string refinement = PeakRefinementName(s.refinement);
+  Get(nh, "peak_refinement", &refinement);
+  s.refinement = ParsePeakRefinement(refinement);
+  Get(nh, "reject_bad_outline", &s.reject_bad_outline);
+  Get(nh, "template_search_px", &s.template_search_px);
+  Get(nh, "outline_outlier_px", &s.outline.outlier_px);
+  Get(nh, "outline_max_edge_rms_px", &s.outline.max_edge_rms_px);
 
   ConePoseConfig& p = c.pose;
   Get(nh, "sigma_px", &p.sigma_px);
