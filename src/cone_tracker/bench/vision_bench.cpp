@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <ctime>
 #include <cstdio>
 #include <vector>
 
@@ -19,6 +20,13 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double Ms(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
+// This thread's CPU time: on a shared machine, wall time includes the time
+// other jobs held the core; CPU time does not.
+double CpuMs() {
+  timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
 double Median(std::vector<double> v) {
   std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
   return v[v.size() / 2];
@@ -71,20 +79,23 @@ int main() {
   const cv::Scalar lo(k.hue_min_rad * 90.0 / M_PI, k.sat_min * 255.0, k.val_min * 255.0);
   const cv::Scalar hi(k.hue_max_rad * 90.0 / M_PI, k.sat_max * 255.0, k.val_max * 255.0);
   const int kFrames = 1500;
-  std::vector<double> ours, baseline, classify, blobs, measure;
+  std::vector<double> ours, baseline, classify, blobs, measure, ours_cpu, baseline_cpu;
   size_t cones = 0, cv_blobs = 0;
   cv::Mat hsv, mask, labels, stats, centroids;
   for (int i = 0; i < kFrames; ++i) {
     const SimFrame& f = frames[size_t(i) % frames.size()];
     const ImageView view{f.rgb.data(), w, h, w * 3, "rgb8"};
+    const double c0 = CpuMs();
     const auto t0 = Clock::now();
     const SegmentationResult r = seg.Process(view, cam);
     const auto t1 = Clock::now();
+    const double c1 = CpuMs();
     const cv::Mat rgb(h, w, CV_8UC3, const_cast<uint8_t*>(f.rgb.data()));
     cv::cvtColor(rgb, hsv, cv::COLOR_RGB2HSV);
     cv::inRange(hsv, lo, hi, mask);
     const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8);
     const auto t2 = Clock::now();
+    ours_cpu.push_back(c1 - c0), baseline_cpu.push_back(CpuMs() - c1);
     ours.push_back(Ms(t0, t1));
     classify.push_back(r.classify_ms), blobs.push_back(r.blobs_ms), measure.push_back(r.measure_ms);
     baseline.push_back(Ms(t1, t2));
@@ -101,6 +112,9 @@ int main() {
   std::printf("BENCH cone_tracker.frame_median %.3f ms\n", ours_ms);
   std::printf("BENCH cone_tracker.opencv_color_cc_median %.3f ms\n", base_ms);
   std::printf("BENCH cone_tracker.color_cc_ratio %.3f ratio\n", ours_ms / base_ms);
+  std::printf("thread CPU time medians: ours %.3f ms, OpenCV %.3f ms\n", Median(ours_cpu), Median(baseline_cpu));
+  std::printf("BENCH cone_tracker.frame_cpu_median %.3f ms\n", Median(ours_cpu));
+  std::printf("BENCH cone_tracker.color_cc_cpu_ratio %.3f ratio\n", Median(ours_cpu) / Median(baseline_cpu));
   std::printf("BENCH cone_tracker.stage_color_roi_median %.3f ms\n", Median(classify));
   std::printf("BENCH cone_tracker.stage_blobs_median %.3f ms\n", Median(blobs));
   std::printf("BENCH cone_tracker.stage_measure_median %.3f ms\n", Median(measure));
