@@ -6,8 +6,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -39,11 +39,13 @@ void PrintAccuracy(const char* name, cone_tracker::Segmenter* seg, const std::ve
   double sp = 0, sb = 0;
   int n = 0;
   for (const auto& f : frames) {
-    const auto r = seg->Process({f.rgb.data(), f.camera.width_px, f.camera.height_px, f.camera.width_px * 3, "rgb8"}, cam);
+    const auto r =
+        seg->Process({f.rgb.data(), f.camera.width_px, f.camera.height_px, f.camera.width_px * 3, "rgb8"}, cam);
     for (const auto& t : f.truth) {
       const cone_tracker::ConeDetection* m = nullptr;
       for (const auto& d : r.cones)
-        if ((d.peak_px - t.peak_px).norm() < 15.0 && (!m || (d.peak_px - t.peak_px).norm() < (m->peak_px - t.peak_px).norm()))
+        if ((d.peak_px - t.peak_px).norm() < 15.0 &&
+            (!m || (d.peak_px - t.peak_px).norm() < (m->peak_px - t.peak_px).norm()))
           m = &d;
       if (m) sp += (m->peak_px - t.peak_px).squaredNorm(), sb += (m->base_px - t.base_px).squaredNorm(), ++n;
     }
@@ -60,7 +62,8 @@ int main() {
   cv::setNumThreads(1);
   rig_sim::Scene scene = rig_sim::DefaultScene();
   rig_sim::BoxSpec box;
-  box.center_m = Eigen::Vector3d(1.5, -1.3, 0.15);  // in view, clear of the cones (an orange blob touching a cone is gated out)
+  box.center_m =
+      Eigen::Vector3d(1.5, -1.3, 0.15);  // in view, clear of the cones (an orange blob touching a cone is gated out)
   scene.boxes.push_back(box);
   rig_sim::PatchSpec patch;
   patch.center_m = Eigen::Vector2d(-1.3, 1.6);
@@ -106,8 +109,10 @@ int main() {
   std::printf("frames %d at %dx%d, cones found per frame %.2f, OpenCV blobs per frame %.1f\n", kFrames, w, h,
               double(cones) / kFrames, double(cv_blobs) / kFrames);
   std::printf("segmentation (colour, ROI, blobs, gates, peak/base, undistort) median %.3f ms\n", ours_ms);
-  std::printf("  stages (medians): colour + ROI %.3f ms, blobs + merge %.3f ms, gates + peak/base (outline) + undistort %.3f ms\n",
-              Median(classify), Median(blobs), Median(measure));
+  std::printf(
+      "  stages (medians): colour + ROI %.3f ms, blobs + merge %.3f ms, gates + peak/base (outline) + undistort %.3f "
+      "ms\n",
+      Median(classify), Median(blobs), Median(measure));
   std::printf("OpenCV baseline (cvtColor HSV + inRange + connectedComponentsWithStats) median %.3f ms\n", base_ms);
   std::printf("BENCH cone_tracker.frame_median %.3f ms\n", ours_ms);
   std::printf("BENCH cone_tracker.opencv_color_cc_median %.3f ms\n", base_ms);

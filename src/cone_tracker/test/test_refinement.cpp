@@ -17,7 +17,9 @@
 namespace cone_tracker {
 namespace {
 
-ImageView View(const SimFrame& f) { return {f.rgb.data(), f.camera.width_px, f.camera.height_px, f.camera.width_px * 3, "rgb8"}; }
+ImageView View(const SimFrame& f) {
+  return {f.rgb.data(), f.camera.width_px, f.camera.height_px, f.camera.width_px * 3, "rgb8"};
+}
 
 // Image bounding box of a cone (apex and base circle), raw pixels.
 Eigen::AlignedBox2d ConeBox(const SimFrame& f, const rig_sim::ConeSpec& c) {
@@ -80,7 +82,8 @@ void Score(const SimFrame& f, const rig_sim::Scene& scene, const SegmentationRes
     const TruthCone& t = f.truth[i];
     const ConeDetection* match = nullptr;
     for (const ConeDetection& d : r.cones)
-      if ((d.peak_px - t.peak_px).norm() < 15.0 && (!match || (d.peak_px - t.peak_px).norm() < (match->peak_px - t.peak_px).norm()))
+      if ((d.peak_px - t.peak_px).norm() < 15.0 &&
+          (!match || (d.peak_px - t.peak_px).norm() < (match->peak_px - t.peak_px).norm()))
         match = &d;
     if (!match) {
       ++e->missed;
@@ -110,8 +113,8 @@ TEST(Refinement, OutlineBeatsTemplatesAndMeetsOnePixelOnRoadCones) {
     Score(f, scene, templates.Process(View(f), cam), &et);
     Score(f, scene, none.Process(View(f), cam), &en);
   }
-  for (const auto& [name, e] : {std::make_pair("outline", eo), std::make_pair("templates", et),
-                                std::make_pair("line search", en)})
+  for (const auto& [name, e] :
+       {std::make_pair("outline", eo), std::make_pair("templates", et), std::make_pair("line search", en)})
     std::printf("%-12s cones %d missed %d  peak RMS %.2f px (max %.2f)  base RMS %.2f px (max %.2f)\n", name, e.n,
                 e.missed, e.PeakRms(), e.peak_max, e.BaseRms(), e.base_max);
   ASSERT_GE(eo.n, 60);
@@ -140,8 +143,8 @@ TEST(Refinement, TemplateSetCoversTheGrid) {
       const double t = y - apex.y();
       if (t >= 0 && t <= height && std::abs(x - apex.x()) <= half * t / height + 1e-9) img[size_t(y) * w + x] = 1;
     }
-  const TemplateMatch m = set.Refine({img.data(), w, h, w}, apex + Eigen::Vector2d(1, 2),
-                                     apex + Eigen::Vector2d(1, height - 1), 4);
+  const TemplateMatch m =
+      set.Refine({img.data(), w, h, w}, apex + Eigen::Vector2d(1, 2), apex + Eigen::Vector2d(1, height - 1), 4);
   ASSERT_TRUE(m.ok);
   EXPECT_GT(m.score, 0.95);
   EXPECT_LT((m.peak_px - apex).norm(), 0.6);
@@ -217,7 +220,7 @@ TEST(Outline, DistortUndistortRoundTrip) {
 TEST(Outline, SyntheticConeApexAndBase) {
   const Eigen::Vector2d apex(50.3, 20.6);
   const double h = 150.0, r = h / 7.0, b = 8.0;  // base half-width and the ellipse's half-height
-  std::vector<cone_tracker::Run> runs;  // (gtest has its own Run)
+  std::vector<cone_tracker::Run> runs;           // (gtest has its own Run)
   for (int y = 0; y < 200; ++y) {
     const double t = y - apex.y();
     if (t < 0) continue;
