@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <ctime>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -19,6 +20,13 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double Ms(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
+// This thread's CPU time: on a shared machine, wall time includes the time
+// other jobs held the core; CPU time does not.
+double CpuMs() {
+  timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
 double Median(std::vector<double> v) {
   std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
   return v[v.size() / 2];
@@ -31,11 +39,13 @@ void PrintAccuracy(const char* name, cone_tracker::Segmenter* seg, const std::ve
   double sp = 0, sb = 0;
   int n = 0;
   for (const auto& f : frames) {
-    const auto r = seg->Process({f.rgb.data(), f.camera.width_px, f.camera.height_px, f.camera.width_px * 3, "rgb8"}, cam);
+    const auto r =
+        seg->Process({f.rgb.data(), f.camera.width_px, f.camera.height_px, f.camera.width_px * 3, "rgb8"}, cam);
     for (const auto& t : f.truth) {
       const cone_tracker::ConeDetection* m = nullptr;
       for (const auto& d : r.cones)
-        if ((d.peak_px - t.peak_px).norm() < 15.0 && (!m || (d.peak_px - t.peak_px).norm() < (m->peak_px - t.peak_px).norm()))
+        if ((d.peak_px - t.peak_px).norm() < 15.0 &&
+            (!m || (d.peak_px - t.peak_px).norm() < (m->peak_px - t.peak_px).norm()))
           m = &d;
       if (m) sp += (m->peak_px - t.peak_px).squaredNorm(), sb += (m->base_px - t.base_px).squaredNorm(), ++n;
     }
@@ -52,7 +62,8 @@ int main() {
   cv::setNumThreads(1);
   rig_sim::Scene scene = rig_sim::DefaultScene();
   rig_sim::BoxSpec box;
-  box.center_m = Eigen::Vector3d(1.5, -1.3, 0.15);  // in view, clear of the cones (an orange blob touching a cone is gated out)
+  box.center_m =
+      Eigen::Vector3d(1.5, -1.3, 0.15);  // in view, clear of the cones (an orange blob touching a cone is gated out)
   scene.boxes.push_back(box);
   rig_sim::PatchSpec patch;
   patch.center_m = Eigen::Vector2d(-1.3, 1.6);
@@ -71,20 +82,23 @@ int main() {
   const cv::Scalar lo(k.hue_min_rad * 90.0 / M_PI, k.sat_min * 255.0, k.val_min * 255.0);
   const cv::Scalar hi(k.hue_max_rad * 90.0 / M_PI, k.sat_max * 255.0, k.val_max * 255.0);
   const int kFrames = 1500;
-  std::vector<double> ours, baseline, classify, blobs, measure;
+  std::vector<double> ours, baseline, classify, blobs, measure, ours_cpu, baseline_cpu;
   size_t cones = 0, cv_blobs = 0;
   cv::Mat hsv, mask, labels, stats, centroids;
   for (int i = 0; i < kFrames; ++i) {
     const SimFrame& f = frames[size_t(i) % frames.size()];
     const ImageView view{f.rgb.data(), w, h, w * 3, "rgb8"};
+    const double c0 = CpuMs();
     const auto t0 = Clock::now();
     const SegmentationResult r = seg.Process(view, cam);
     const auto t1 = Clock::now();
+    const double c1 = CpuMs();
     const cv::Mat rgb(h, w, CV_8UC3, const_cast<uint8_t*>(f.rgb.data()));
     cv::cvtColor(rgb, hsv, cv::COLOR_RGB2HSV);
     cv::inRange(hsv, lo, hi, mask);
     const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8);
     const auto t2 = Clock::now();
+    ours_cpu.push_back(c1 - c0), baseline_cpu.push_back(CpuMs() - c1);
     ours.push_back(Ms(t0, t1));
     classify.push_back(r.classify_ms), blobs.push_back(r.blobs_ms), measure.push_back(r.measure_ms);
     baseline.push_back(Ms(t1, t2));
@@ -95,12 +109,17 @@ int main() {
   std::printf("frames %d at %dx%d, cones found per frame %.2f, OpenCV blobs per frame %.1f\n", kFrames, w, h,
               double(cones) / kFrames, double(cv_blobs) / kFrames);
   std::printf("segmentation (colour, ROI, blobs, gates, peak/base, undistort) median %.3f ms\n", ours_ms);
-  std::printf("  stages (medians): colour + ROI %.3f ms, blobs + merge %.3f ms, gates + peak/base (outline) + undistort %.3f ms\n",
-              Median(classify), Median(blobs), Median(measure));
+  std::printf(
+      "  stages (medians): colour + ROI %.3f ms, blobs + merge %.3f ms, gates + peak/base (outline) + undistort %.3f "
+      "ms\n",
+      Median(classify), Median(blobs), Median(measure));
   std::printf("OpenCV baseline (cvtColor HSV + inRange + connectedComponentsWithStats) median %.3f ms\n", base_ms);
   std::printf("BENCH cone_tracker.frame_median %.3f ms\n", ours_ms);
   std::printf("BENCH cone_tracker.opencv_color_cc_median %.3f ms\n", base_ms);
   std::printf("BENCH cone_tracker.color_cc_ratio %.3f ratio\n", ours_ms / base_ms);
+  std::printf("thread CPU time medians: ours %.3f ms, OpenCV %.3f ms\n", Median(ours_cpu), Median(baseline_cpu));
+  std::printf("BENCH cone_tracker.frame_cpu_median %.3f ms\n", Median(ours_cpu));
+  std::printf("BENCH cone_tracker.color_cc_cpu_ratio %.3f ratio\n", Median(ours_cpu) / Median(baseline_cpu));
   std::printf("BENCH cone_tracker.stage_color_roi_median %.3f ms\n", Median(classify));
   std::printf("BENCH cone_tracker.stage_blobs_median %.3f ms\n", Median(blobs));
   std::printf("BENCH cone_tracker.stage_measure_median %.3f ms\n", Median(measure));

@@ -37,16 +37,16 @@ TEST(Photos, DetectConesOnFsocoPhotos) {
   // Orange (and red-white FSG) cones seen in each photo; yellow- and
   // blue-only photos must give none.
   const std::map<std::string, Expect> expect = {
-      {"fsg__cone.png", {0, 0}},                    // one yellow cone
-      {"fsg__fsg_cone.png", {0, 0}},                // one yellow cone
-      {"fsg__HD__fsg_yellow_cones.jpg", {0, 0}},    // yellow cones
-      {"labels__box-truncated.png", {0, 0}},        // blue cone
-      {"labels__box-base-plate.png", {0, 0}},       // blue cone
-      {"overview__ff.jpg", {0, 0}},                 // blue and yellow cones
-      {"labels__class-large-orange.png", {1, 1}},   // one large orange cone
-      {"overview__amz.png", {1, 3}},                // one near orange cone, distant ones ~20 px tall
-      {"fsg__HD__fsg_laptop.jpg", {2, 3}},          // two red-white cones
-      {"fsg__HD__fsg_2nd_run.jpg", {2, 10}},        // two red-white cones, orange print on the sign
+      {"fsg__cone.png", {0, 0}},                        // one yellow cone
+      {"fsg__fsg_cone.png", {0, 0}},                    // one yellow cone
+      {"fsg__HD__fsg_yellow_cones.jpg", {0, 0}},        // yellow cones
+      {"labels__box-truncated.png", {0, 0}},            // blue cone
+      {"labels__box-base-plate.png", {0, 0}},           // blue cone
+      {"overview__ff.jpg", {0, 0}},                     // blue and yellow cones
+      {"labels__class-large-orange.png", {1, 1}},       // one large orange cone
+      {"overview__amz.png", {1, 3}},                    // one near orange cone, distant ones ~20 px tall
+      {"fsg__HD__fsg_laptop.jpg", {2, 3}},              // two red-white cones
+      {"fsg__HD__fsg_2nd_run.jpg", {2, 10}},            // two red-white cones, orange print on the sign
       {"fsg__HD__fsg_acceleration_track.jpg", {4, 7}},  // four red-white cones near
   };
   std::string cmd = std::string(DETECT_CONES_EXE) + " --config photos --output /tmp/cone_tracker_photos.jsonl";

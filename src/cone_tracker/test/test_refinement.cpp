@@ -17,7 +17,9 @@
 namespace cone_tracker {
 namespace {
 
-ImageView View(const SimFrame& f) { return {f.rgb.data(), f.camera.width_px, f.camera.height_px, f.camera.width_px * 3, "rgb8"}; }
+ImageView View(const SimFrame& f) {
+  return {f.rgb.data(), f.camera.width_px, f.camera.height_px, f.camera.width_px * 3, "rgb8"};
+}
 
 // Image bounding box of a cone (apex and base circle), raw pixels.
 Eigen::AlignedBox2d ConeBox(const SimFrame& f, const rig_sim::ConeSpec& c) {
@@ -80,7 +82,8 @@ void Score(const SimFrame& f, const rig_sim::Scene& scene, const SegmentationRes
     const TruthCone& t = f.truth[i];
     const ConeDetection* match = nullptr;
     for (const ConeDetection& d : r.cones)
-      if ((d.peak_px - t.peak_px).norm() < 15.0 && (!match || (d.peak_px - t.peak_px).norm() < (match->peak_px - t.peak_px).norm()))
+      if ((d.peak_px - t.peak_px).norm() < 15.0 &&
+          (!match || (d.peak_px - t.peak_px).norm() < (match->peak_px - t.peak_px).norm()))
         match = &d;
     if (!match) {
       ++e->missed;
@@ -110,8 +113,8 @@ TEST(Refinement, OutlineBeatsTemplatesAndMeetsOnePixelOnRoadCones) {
     Score(f, scene, templates.Process(View(f), cam), &et);
     Score(f, scene, none.Process(View(f), cam), &en);
   }
-  for (const auto& [name, e] : {std::make_pair("outline", eo), std::make_pair("templates", et),
-                                std::make_pair("line search", en)})
+  for (const auto& [name, e] :
+       {std::make_pair("outline", eo), std::make_pair("templates", et), std::make_pair("line search", en)})
     std::printf("%-12s cones %d missed %d  peak RMS %.2f px (max %.2f)  base RMS %.2f px (max %.2f)\n", name, e.n,
                 e.missed, e.PeakRms(), e.peak_max, e.BaseRms(), e.base_max);
   ASSERT_GE(eo.n, 60);
@@ -140,8 +143,8 @@ TEST(Refinement, TemplateSetCoversTheGrid) {
       const double t = y - apex.y();
       if (t >= 0 && t <= height && std::abs(x - apex.x()) <= half * t / height + 1e-9) img[size_t(y) * w + x] = 1;
     }
-  const TemplateMatch m = set.Refine({img.data(), w, h, w}, apex + Eigen::Vector2d(1, 2),
-                                     apex + Eigen::Vector2d(1, height - 1), 4);
+  const TemplateMatch m =
+      set.Refine({img.data(), w, h, w}, apex + Eigen::Vector2d(1, 2), apex + Eigen::Vector2d(1, height - 1), 4);
   ASSERT_TRUE(m.ok);
   EXPECT_GT(m.score, 0.95);
   EXPECT_LT((m.peak_px - apex).norm(), 0.6);
@@ -191,6 +194,57 @@ TEST(Refinement, OverlappingConesAreGatedNotMismeasured) {
   EXPECT_GE(overlapping, 4);  // the views do overlap the two cones
   EXPECT_GE(gated, 1);        // and the outline gate is what catches them
   std::printf("overlapping views %d, outline-gated blobs %d, poses %d\n", overlapping, gated, poses);
+}
+
+}  // namespace cone_tracker
+
+namespace cone_tracker {
+
+TEST(Outline, DistortUndistortRoundTrip) {
+  const CameraModel cam = ToCameraModel(rig_sim::CameraConfig());
+  std::vector<Eigen::Vector2d> pts;
+  for (double u = 10; u < 1024; u += 101)
+    for (double v = 10; v < 768; v += 97) pts.emplace_back(u, v);
+  std::vector<Eigen::Vector2d> back = pts;
+  ASSERT_TRUE(UndistortPixels(cam, &back));
+  ASSERT_TRUE(DistortPixels(cam, &back));
+  for (size_t i = 0; i < pts.size(); ++i) EXPECT_LT((back[i] - pts[i]).norm(), 1e-6) << pts[i].transpose();
+  CameraModel nan_cam = cam;
+  nan_cam.distortion[1] = NAN;
+  EXPECT_FALSE(DistortPixels(nan_cam, &back));
+}
+
+// A cone drawn exactly (pixel centres inside the silhouette: two edge lines
+// from the apex, closed below by a half ellipse), no camera: the apex and the
+// bottom of the arc on the axis come back to a fraction of a pixel.
+TEST(Outline, SyntheticConeApexAndBase) {
+  const Eigen::Vector2d apex(50.3, 20.6);
+  const double h = 150.0, r = h / 7.0, b = 8.0;  // base half-width and the ellipse's half-height
+  std::vector<cone_tracker::Run> runs;           // (gtest has its own Run)
+  for (int y = 0; y < 200; ++y) {
+    const double t = y - apex.y();
+    if (t < 0) continue;
+    double half = t <= h ? r * t / h : 0.0;
+    if (t > h) {  // below the base line: the front half of the ellipse
+      const double q = 1.0 - ((t - h) / b) * ((t - h) / b);
+      if (q <= 0) continue;
+      half = r * std::sqrt(q);
+    }
+    const int x0 = int(std::ceil(apex.x() - half)), x1 = int(std::floor(apex.x() + half));
+    if (x1 >= x0) runs.push_back({y, x0, x1});
+  }
+  const Eigen::Vector2d peak_guess(50, double(runs.front().y)), base_guess(50, double(runs.back().y));
+  const OutlineFit fit = FitConeOutline(runs, peak_guess, base_guess, CameraModel(), OutlineConfig());
+  ASSERT_TRUE(fit.ok) << fit.why;
+  EXPECT_LT((fit.peak_px - apex).norm(), 0.3) << fit.peak_px.transpose();
+  EXPECT_LT((fit.base_px - (apex + Eigen::Vector2d(0, h + b))).norm(), 0.3) << fit.base_px.transpose();
+  EXPECT_LT(fit.edge_rms_px, 0.5);
+  // Degenerate input gives a reason, never a point.
+  EXPECT_FALSE(FitConeOutline({}, peak_guess, base_guess, CameraModel(), OutlineConfig()).ok);
+  EXPECT_FALSE(FitConeOutline(runs, peak_guess, peak_guess, CameraModel(), OutlineConfig()).ok);
+  const OutlineFit nan_fit =
+      FitConeOutline(runs, Eigen::Vector2d(NAN, NAN), base_guess, CameraModel(), OutlineConfig());
+  EXPECT_FALSE(nan_fit.ok);
 }
 
 }  // namespace cone_tracker

@@ -37,10 +37,14 @@ cone_tracker::SegmenterConfig LoadConfig(const std::string& path) {
   Read(n, "reject_bad_outline", &c.reject_bad_outline);
   if (n["refinement"]) {
     const std::string r = n["refinement"].as<std::string>();
-    if (r == "outline") c.refinement = cone_tracker::PeakRefinement::kOutline;
-    else if (r == "templates") c.refinement = cone_tracker::PeakRefinement::kTemplates;
-    else if (r == "none") c.refinement = cone_tracker::PeakRefinement::kNone;
-    else throw std::invalid_argument("refinement must be outline, templates or none, not '" + r + "'");
+    if (r == "outline")
+      c.refinement = cone_tracker::PeakRefinement::kOutline;
+    else if (r == "templates")
+      c.refinement = cone_tracker::PeakRefinement::kTemplates;
+    else if (r == "none")
+      c.refinement = cone_tracker::PeakRefinement::kNone;
+    else
+      throw std::invalid_argument("refinement must be outline, templates or none, not '" + r + "'");
   }
   return c;
 }

@@ -172,7 +172,8 @@ OutlineFit FitConeOutline(const std::vector<Run>& runs, const Eigen::Vector2d& p
   // The binary tip ends where the silhouette gets narrower than about a
   // pixel, short of the apex; no cone pixel lies beyond the apex.
   const double tan_half = std::tan(0.5 * std::abs(std::atan(fl.b) - std::atan(fr.b)));
-  const double along = (apex - peak0).dot(dir0), lateral = std::abs((apex - peak0).dot(Eigen::Vector2d(dir0.y(), -dir0.x())));
+  const double along = (apex - peak0).dot(dir0),
+               lateral = std::abs((apex - peak0).dot(Eigen::Vector2d(dir0.y(), -dir0.x())));
   if (along > 1.5 || along < -(3.0 + 1.0 / std::max(tan_half, 0.02)) || lateral > 3.0 + config.max_apex_gap_frac * h0)
     return out.why = "apex does not fit the tip", out;
   // The axis: the mirror plane's image is the bisector of the edges as unit

@@ -58,9 +58,10 @@ TemplateMatch ConeTemplateSet::Refine(const MaskView& mask, const Eigen::Vector2
   TemplateMatch best;
   const Eigen::Vector2d axis = base_guess - peak_guess;
   const double tilt_deg = std::atan2(axis.y(), axis.x()) / kDeg - 90.0;
-  const int hc = std::clamp(int(std::lround((axis.norm() - config_.min_height_px) / config_.height_step_px)), 0,
-                            n_height_ - 1);
-  const int oc = std::clamp(int(std::lround(tilt_deg / config_.orientation_step_deg)) + n_orient_ / 2, 0, n_orient_ - 1);
+  const int hc =
+      std::clamp(int(std::lround((axis.norm() - config_.min_height_px) / config_.height_step_px)), 0, n_height_ - 1);
+  const int oc =
+      std::clamp(int(std::lround(tilt_deg / config_.orientation_step_deg)) + n_orient_ / 2, 0, n_orient_ - 1);
   const int ax = int(std::lround(peak_guess.x())), ay = int(std::lround(peak_guess.y()));
   // The region every candidate window can touch, with its integral image.
   int rx0 = INT32_MAX, ry0 = INT32_MAX, rx1 = INT32_MIN, ry1 = INT32_MIN;
@@ -118,8 +119,10 @@ TemplateMatch ConeTemplateSet::Refine(const MaskView& mask, const Eigen::Vector2
       best.orientation_rad = std::atan2(d.y(), d.x());
       auto at = [&](int dx, int dy) { return scores[size_t(dy + search_px) * side + size_t(dx + search_px)]; };
       Eigen::Vector2d frac = Eigen::Vector2d::Zero();
-      if (std::abs(best_dx) < search_px) frac.x() = Vertex(at(best_dx - 1, best_dy), best.score, at(best_dx + 1, best_dy));
-      if (std::abs(best_dy) < search_px) frac.y() = Vertex(at(best_dx, best_dy - 1), best.score, at(best_dx, best_dy + 1));
+      if (std::abs(best_dx) < search_px)
+        frac.x() = Vertex(at(best_dx - 1, best_dy), best.score, at(best_dx + 1, best_dy));
+      if (std::abs(best_dy) < search_px)
+        frac.y() = Vertex(at(best_dx, best_dy - 1), best.score, at(best_dx, best_dy + 1));
       best.peak_px = Eigen::Vector2d(ax + best_dx, ay + best_dy) + frac;
       best.base_px = best.peak_px + best.height_px * d;
       best.ok = true;

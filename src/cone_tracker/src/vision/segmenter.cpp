@@ -95,7 +95,8 @@ std::string SegmenterConfig::Validate() const {
   if (!(max_tilt_deg >= 0.0 && max_tilt_deg <= 90.0)) return "max_tilt_deg must be in [0, 90]";
   if (line_search_misses < 1) return "line_search_misses must be >= 1";
   if (!(outline.outlier_px > 0.0) || !(outline.max_edge_rms_px > 0.0)) return "outline pixel bounds must be > 0";
-  if (!(outline.min_inlier_frac >= 0.0 && outline.min_inlier_frac <= 1.0)) return "outline.min_inlier_frac must be in [0, 1]";
+  if (!(outline.min_inlier_frac >= 0.0 && outline.min_inlier_frac <= 1.0))
+    return "outline.min_inlier_frac must be in [0, 1]";
   if (!(template_search_px >= 0.0 && template_search_px <= 32.0)) return "template_search_px must be in [0, 32]";
   return "";
 }

@@ -27,20 +27,21 @@ struct OutlineConfig {
   double outlier_px = 1.0;        // edge points farther than this from their line are not on it
   double max_edge_rms_px = 0.8;   // RMS distance of the inlying edge points to their lines, and of the base arc's
   double min_inlier_frac = 0.25;  // of the rows above the base arc, per edge
-  double max_outward_frac = 0.15;  // edge points outside their line by > outlier_px, per edge (demosaicing fringes reach 6%)
+  double max_outward_frac =
+      0.15;  // edge points outside their line by > outlier_px, per edge (demosaicing fringes reach 6%)
   double max_apex_gap_frac = 0.05;  // apex off the line search's axis, fraction of the height (+ 3 px)
-  double max_tilt_deg = 60.0;     // edges are sampled per row: the axis must be roughly vertical
+  double max_tilt_deg = 60.0;       // edges are sampled per row: the axis must be roughly vertical
 };
 
 struct OutlineFit {
   bool ok = false;
-  std::string why;  // when !ok: which check failed
+  std::string why;                                                                       // when !ok: which check failed
   Eigen::Vector2d peak_px = Eigen::Vector2d::Zero(), base_px = Eigen::Vector2d::Zero();  // raw pixels
   Eigen::Vector2d peak_undist_px = Eigen::Vector2d::Zero(), base_undist_px = Eigen::Vector2d::Zero();
   Eigen::Vector3d left_line = Eigen::Vector3d::Zero(), right_line = Eigen::Vector3d::Zero();  // undistorted px
   Eigen::Vector3d axis_line = Eigen::Vector3d::Zero();
   double edge_rms_px = 0.0;
-  double inlier_frac = 0.0;  // the smaller of the two edges'
+  double inlier_frac = 0.0;   // the smaller of the two edges'
   double outward_frac = 0.0;  // the larger of the two edges'
   double arc_rms_px = 0.0;    // the base arc's points about their parabola
 };
@@ -49,8 +50,7 @@ struct OutlineFit {
 // ends (raw pixels). camera with fx_px <= 0: no undistortion, and the axis is
 // the Euclidean bisector (no intrinsics to make it projective).
 OutlineFit FitConeOutline(const std::vector<Run>& runs, const Eigen::Vector2d& peak_guess_px,
-                          const Eigen::Vector2d& base_guess_px, const CameraModel& camera,
-                          const OutlineConfig& config);
+                          const Eigen::Vector2d& base_guess_px, const CameraModel& camera, const OutlineConfig& config);
 
 // Forward lens model: undistorted (ideal, same K) pixels -> raw pixels. The
 // inverse of UndistortPixels (segmenter.h). False on non-finite output.

@@ -27,7 +27,7 @@ struct TemplateSetConfig {
 
 struct TemplateMatch {
   bool ok = false;
-  double score = -1.0;  // normalised cross-correlation in [-1, 1]
+  double score = -1.0;                            // normalised cross-correlation in [-1, 1]
   double height_px = 0.0, orientation_rad = 0.0;  // of the axis from peak to base, against +u
   Eigen::Vector2d peak_px = Eigen::Vector2d::Zero(), base_px = Eigen::Vector2d::Zero();
 };
@@ -46,11 +46,11 @@ class ConeTemplateSet {
 
  private:
   struct Template {
-    int row0 = 0;                // first row, relative to the apex pixel
+    int row0 = 0;                 // first row, relative to the apex pixel
     std::vector<int16_t> x0, x1;  // per row, the pixels inside (x1 < x0: none), relative to the apex
     int min_x = 0, max_x = 0;
     int win_x0 = 0, win_x1 = 0, win_y0 = 0, win_y1 = 0;  // the template image (inclusive), relative to the apex
-    double count = 0;  // pixels inside
+    double count = 0;                                    // pixels inside
   };
   const Template& At(int h, int o) const { return templates_[size_t(h) * n_orient_ + size_t(o)]; }
 

@@ -128,8 +128,8 @@ class Segmenter {
 
   SegmenterConfig config_;
   ColorLut lut_;
-  std::vector<uint8_t> rgb_;   // debayered frame (bayer input only)
-  std::vector<uint8_t> mask_;  // full-size, zero outside the ROI
+  std::vector<uint8_t> rgb_;                          // debayered frame (bayer input only)
+  std::vector<uint8_t> mask_;                         // full-size, zero outside the ROI
   std::shared_ptr<const ConeTemplateSet> templates_;  // built at start-up for kTemplates
 };
 
