@@ -15,6 +15,8 @@ from .summary import figures
 def _fmt(value):
     if not np.isfinite(value):
         return "n/a"
+    if abs(value) < 1e-9:
+        return "0"
     return "%.0f" % value if abs(value) >= 100 else "%.3g" % value
 
 
@@ -91,7 +93,7 @@ def write_report(summary, out_dir, video=None, screenshot=None, path=None):
 
     lines += ["## Plots", ""]
     for name, caption in drawn:
-        lines += ["%s:" % caption[0].upper() + caption[1:], "", "![%s](%s)" % (name, name), ""]
+        lines += [caption[0].upper() + caption[1:] + ":", "", "![%s](%s)" % (name, name), ""]
 
     if summary.gates:
         lines += ["## Gate rejections", "", "| gate | rejections | first at |", "|---|---:|---:|"]
