@@ -23,8 +23,12 @@ xvfb-run -a -s "-screen 0 1500x900x24" bash -c '
   port="${ROS_MASTER_URI##*:}"
   roslaunch -p "$port" "$1/launch/demo.launch" bag:="$2" record_to:="$3" rviz:=true >"$4/demo_launch.log" 2>&1 &
   launch_pid=$!
-  rosrun ar_demo grab_screen "$4/rviz.png" --after-s "$5" --timeout-s 180 || echo "demo: no rviz screenshot (see above)"
+  rosrun ar_demo grab_screen "$4/rviz.png" --bag "$2" --after-s "$5" --timeout-s 300 &
+  grab_pid=$!
   wait "$launch_pid"
+  kill "$grab_pid" 2>/dev/null && echo "demo: the replay ended before the rviz screenshot was taken"
+  wait "$grab_pid" 2>/dev/null
+  true
 ' _ "$ROOT" "$BAG" "$RUN_BAG" "$OUT" "$SCREENSHOT_AT_S"
 [[ -f "$RUN_BAG" ]] || { echo "demo: the replay recorded nothing; see $OUT/demo_launch.log" >&2; exit 1; }
 
