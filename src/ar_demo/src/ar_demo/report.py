@@ -99,7 +99,7 @@ def write_report(summary, out_dir, video=None, screenshot=None, path=None):
         lines += ["## Gate rejections", "", "| gate | rejections | first at |", "|---|---:|---:|"]
         for name, times in sorted(summary.gates.items()):
             first = "%.2f s" % min(times) if len(times) else "—"
-            lines.append("| %s | %d | %s |" % (name, len(times), first))
+            lines.append("| %s | %d | %s |" % (name.replace("|", "\\|"), len(times), first))
         lines += [""]
     if summary.rates:
         lines += ["## Rates", "", "| topic | measured [Hz] | expected [Hz] |", "|---|---:|---:|"]
@@ -109,5 +109,5 @@ def write_report(summary, out_dir, video=None, screenshot=None, path=None):
     if summary.notes:
         lines += ["## Notes", ""] + ["- " + n for n in summary.notes] + [""]
     with open(path, "w") as f:
-        f.write("\n".join(lines))
+        f.write("\n".join(lines) + "\n")
     return path

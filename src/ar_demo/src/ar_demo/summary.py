@@ -7,6 +7,9 @@ rotation vector of R_est R_truth^T, i.e. a left perturbation, as ROS's covarianc
 """
 import numpy as np
 
+VISIBLE_MARGIN_S = 0.1
+MIN_SAMPLES = 10  # fewer samples than this in a class (visible / out of view): no figure
+
 
 class PoseErrors:
     """Error series of one estimator; the 3σ arrays are None when it gives no covariance."""
@@ -54,11 +57,13 @@ def figures(summary):
     out = []
     ekf = summary.ekf
     if ekf is not None and len(ekf):
-        seen = in_periods(ekf.t_s, summary.visible)
+        # A period's ends are camera frames: widen them by half a gap so the IMU-rate samples
+        # around the first and last frame count as visible.
+        seen = in_periods(ekf.t_s, [(t0 - VISIBLE_MARGIN_S, t1 + VISIBLE_MARGIN_S) for t0, t1 in summary.visible])
         pos = np.linalg.norm(ekf.pos_err_m, axis=1)
         ang = np.degrees(np.linalg.norm(ekf.rot_err_rad, axis=1))
         for label, mask in (("cones visible", seen), ("cones out of view", ~seen)):
-            if mask.any():
+            if mask.sum() >= MIN_SAMPLES:
                 out.append(("EKF position RMS, %s" % label, rms(pos[mask]) * 1e3, "mm"))
                 out.append(("EKF orientation RMS, %s" % label, rms(ang[mask]), "deg"))
                 out.append(("EKF orientation max, %s" % label, float(ang[mask].max()), "deg"))
