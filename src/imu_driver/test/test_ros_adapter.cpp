@@ -21,7 +21,10 @@ TEST(FillImuMessage, Rep145InImuFrame) {
   sensor_msgs::Imu m;
   FillImuMessage(Sample(), c, {Eigen::Vector3d(0.01, 0.01, 0.01), Eigen::Vector3d(0.01, 0.02, 0.03), true}, &m);
   EXPECT_EQ(m.header.frame_id, "imu");
-  EXPECT_DOUBLE_EQ(m.header.stamp.toSec(), 1234.5);
+  EXPECT_NEAR(m.header.stamp.toSec(), 1234.495, 1e-6);  // the midpoint of the 10 ms interval (REP-145)
+  c.stamp_at_interval_midpoint = false;
+  FillImuMessage(Sample(), c, {Eigen::Vector3d(0.01, 0.01, 0.01), Eigen::Vector3d(0.01, 0.02, 0.03), true}, &m);
+  EXPECT_NEAR(m.header.stamp.toSec(), 1234.5, 1e-6);
   EXPECT_EQ(m.orientation_covariance[0], -1.0);
   EXPECT_NEAR(m.angular_velocity.x, 0.09, 1e-12);  // bias removed
   EXPECT_NEAR(m.angular_velocity.y, -0.21, 1e-12);

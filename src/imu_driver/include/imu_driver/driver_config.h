@@ -13,6 +13,10 @@ namespace imu_driver {
 struct DriverConfig {
   SerialReaderConfig reader;  // ~port, ~baud, ~rate_hz, ~retry_*, clock-model settings
   std::string frame_id = "imu";
+  // REP-145: the stamp is when the measurement applies. A Crista sample averages the interval before
+  // it is sent, so by default the stamp is moved from the frame's arrival back by half a sample
+  // period, to the interval's midpoint (the convention rig_sim and pose_ekf share).
+  bool stamp_at_interval_midpoint = true;
   // Noise and bias from the static calibration (3.2.1); the covariances are σ².
   Eigen::Vector3d gyro_bias_rad_s = Eigen::Vector3d::Zero();
   bool gyro_bias_calibrated = false;  // true when a bias was loaded or measured

@@ -46,6 +46,7 @@ DriverConfig LoadConfig(const ros::NodeHandle& pnh) {
   pnh.param<std::string>("frame_id", c.frame_id, "imu");
   if (c.frame_id.empty()) Refuse(pnh, "frame_id", "must not be empty");
   r.stream.rate_hz = PositiveParam(pnh, "rate_hz", 100.0);
+  pnh.param("stamp_at_interval_midpoint", c.stamp_at_interval_midpoint, true);
   r.retry_initial_s = PositiveParam(pnh, "retry_initial_s", 0.1);
   r.retry_max_s = PositiveParam(pnh, "retry_max_s", 2.0);
   if (r.retry_max_s < r.retry_initial_s) Refuse(pnh, "retry_max_s", "must be >= retry_initial_s");
@@ -91,7 +92,7 @@ DriverConfig LoadConfig(const ros::NodeHandle& pnh) {
 
 void FillImuMessage(const ImuSample& s, const DriverConfig& config, const GyroCalibration& gyro,
                     sensor_msgs::Imu* msg) {
-  msg->header.stamp.fromSec(s.stamp_s);
+  msg->header.stamp.fromSec(s.stamp_s - (config.stamp_at_interval_midpoint ? 0.5 / config.reader.stream.rate_hz : 0.0));
   Eigen::Vector3d omega(s.si.omega_imu_rad_s[0], s.si.omega_imu_rad_s[1], s.si.omega_imu_rad_s[2]);
   Eigen::Vector3d accel(s.si.accel_imu_m_s2[0], s.si.accel_imu_m_s2[1], s.si.accel_imu_m_s2[2]);
   if (config.subtract_gyro_bias) omega -= gyro.bias_rad_s;  // 3.27 with v_gyro left in

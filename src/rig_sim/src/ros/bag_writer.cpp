@@ -46,11 +46,13 @@ bool WriteScenarioBag(const Scenario& scenario, const BagOptions& opt, const std
       const ros::Time stamp = StampAt(opt.start_time_s, ev.stamp_s);
       const ros::Time deliver = StampAt(opt.start_time_s, ev.deliver_s);
       switch (ev.kind) {
-        case EventKind::kImu:
-          bag.write(opt.topics.imu, deliver, MakeImu(ev.imu, scenario.imu, stamp, opt.frames.imu));
-          bag.write(opt.topics.imu_bias, deliver, MakeImuBias(ev.imu, stamp, opt.frames.imu));
+        case EventKind::kImu: {
+          const ros::Time imu_stamp = ImuMessageStamp(stamp, scenario.imu);
+          bag.write(opt.topics.imu, deliver, MakeImu(ev.imu, scenario.imu, imu_stamp, opt.frames.imu));
+          bag.write(opt.topics.imu_bias, deliver, MakeImuBias(ev.imu, imu_stamp, opt.frames.imu));
           ++local.imu;
           break;
+        }
         case EventKind::kTruth:
           bag.write(opt.topics.truth, deliver, MakeTruthPose(ev.pose, stamp, opt.frames.cones));
           if (opt.truth_tf && ev.index % truth_per_imu == 0) {

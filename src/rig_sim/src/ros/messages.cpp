@@ -63,6 +63,10 @@ sensor_msgs::ImagePtr MakeEmptyImage(const CameraConfig& c, const ros::Time& sta
   return img;
 }
 
+ros::Time ImuMessageStamp(const ros::Time& interval_end, const ImuConfig& config) {
+  return interval_end - ros::Duration(0.5 / config.rate_hz);
+}
+
 sensor_msgs::Imu MakeImu(const ImuSample& s, const ImuConfig& cfg, const ros::Time& stamp, const std::string& frame) {
   sensor_msgs::Imu m;
   m.header.stamp = stamp;

@@ -100,10 +100,12 @@ void SimPublisher::Publish(const SimEvent& ev) {
   const ros::Time stamp = StampAt(pass_start_s_, ev.stamp_s);
   switch (ev.kind) {
     case EventKind::kImu: {
-      imu_pub_.publish(MakeImu(ev.imu, scenario_.imu, stamp, frames_names_.imu));
-      bias_pub_.publish(MakeImuBias(ev.imu, stamp, frames_names_.imu));
+      const ros::Time imu_stamp = ImuMessageStamp(stamp, scenario_.imu);
+      imu_pub_.publish(MakeImu(ev.imu, scenario_.imu, imu_stamp, frames_names_.imu));
+      bias_pub_.publish(MakeImuBias(ev.imu, imu_stamp, frames_names_.imu));
       if (pty_) {
-        const std::vector<uint8_t> packet = EncodeCristaPacket(ev.imu, static_cast<uint8_t>(ev.index & 0xFF));
+        // The sequence number counts on across loop passes (ev.index restarts), as the Crista's would.
+        const std::vector<uint8_t> packet = EncodeCristaPacket(ev.imu, static_cast<uint8_t>(imu_ & 0xFF));
         if (!pty_->WriteIfRoom(packet.data(), packet.size())) ++pty_dropped_;
       }
       ++imu_;

@@ -41,6 +41,10 @@ ros::Time StampAt(double start_s, double t_s);
 
 sensor_msgs::CameraInfo MakeCameraInfo(const CameraConfig& camera, const ros::Time& stamp, const std::string& frame);
 sensor_msgs::ImagePtr MakeEmptyImage(const CameraConfig& camera, const ros::Time& stamp, const std::string& frame);
+// REP-145: an IMU message is stamped when its measurement applies. The core's sample stamped t_k
+// covers (t_k - dt, t_k], so its message carries the interval's midpoint t_k - dt/2 (imu_driver stamps
+// the Crista's samples the same way, and pose_ekf expects it).
+ros::Time ImuMessageStamp(const ros::Time& interval_end, const ImuConfig& config);
 sensor_msgs::Imu MakeImu(const ImuSample& s, const ImuConfig& config, const ros::Time& stamp, const std::string& frame);
 sensor_msgs::Imu MakeImuBias(const ImuSample& s, const ros::Time& stamp, const std::string& frame);
 geometry_msgs::PoseStamped MakeTruthPose(const TruePose& pose, const ros::Time& stamp, const std::string& frame);

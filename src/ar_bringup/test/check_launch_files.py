@@ -1,0 +1,100 @@
+#!/usr/bin/env python3
+"""Checks the repository's launch files (launch/*.launch) without starting them.
+
+catkin's roslaunch-check only works on files inside a package, so this does the same and more for
+the root launch/ folder: each file loads with its args (XML, substitutions, includes, required
+args), every node's package and executable exist, and the nodelets follow DESIGN.md: exactly one
+manager, every nodelet loaded into it (none standalone), and every plugin declared by a package.
+Every *.launch in DIR is checked; files that need args get them from FILE:arg:=value,... specs.
+Usage (from test/launch_files.test): check_launch_files.py DIR [FILE:arg:=value,...] ...
+"""
+import os
+import subprocess
+import sys
+import unittest
+import xml.etree.ElementTree as ET
+
+import roslaunch.config
+import roslib.packages
+import rospkg
+
+LAUNCH_DIR = None
+ARGS = {}  # file name -> [arg:=value]
+GRAPH_FILES = ("rig.launch", "replay.launch", "sim.launch")  # the full processing graph
+
+
+def nodelet_plugins():
+    """Every nodelet class declared by a package's nodelet plugin XML."""
+    out = subprocess.run(["rospack", "plugins", "--attrib=plugin", "nodelet"], check=True,
+                         capture_output=True, text=True).stdout
+    classes = set()
+    for line in out.splitlines():
+        _, path = line.split(None, 1)
+        root = ET.parse(path.strip()).getroot()
+        for c in root.iter("class"):
+            classes.add(c.get("name"))
+    return classes
+
+
+class LaunchFilesTest(unittest.TestCase):
+    def check(self, name, args):
+        path = os.path.join(LAUNCH_DIR, name)
+        try:
+            cfg = roslaunch.config.load_config_default([(path, args)], None, verbose=False)
+        except Exception as e:  # the loader raises several kinds; the message is what matters
+            self.fail("%s %s does not load: %s" % (name, args, e))
+        rp = rospkg.RosPack()
+        managers, loads = [], []
+        for n in cfg.nodes:
+            try:
+                rp.get_path(n.package)
+            except rospkg.ResourceNotFound:
+                self.fail("%s: node %s: package %s not found" % (name, n.name, n.package))
+            self.assertTrue(roslib.packages.find_node(n.package, n.type, rospack=rp),
+                            "%s: node %s: executable %s/%s not found" % (name, n.name, n.package, n.type))
+            if n.package == "nodelet":
+                words = n.args.split()
+                self.assertTrue(words, "%s: nodelet %s without arguments" % (name, n.name))
+                self.assertNotEqual(words[0], "standalone", "%s: nodelet %s is standalone" % (name, n.name))
+                if words[0] == "manager":
+                    managers.append(n.name)
+                else:
+                    self.assertEqual(words[0], "load", "%s: nodelet %s: %s" % (name, n.name, n.args))
+                    loads.append((n.name, words[1], words[2]))
+        if not loads and not managers:
+            return cfg, []
+        self.assertEqual(len(managers), 1, "%s: one nodelet manager expected, found %s" % (name, managers))
+        plugins = nodelet_plugins()
+        for node, plugin, manager in loads:
+            self.assertEqual(manager, managers[0], "%s: %s loads into %s, not the manager" % (name, node, manager))
+            self.assertIn(plugin, plugins, "%s: %s: plugin %s is not declared by any package" % (name, node, plugin))
+        return cfg, [p for _, p, _ in loads]
+
+    def test_every_launch_file(self):
+        names = sorted(f for f in os.listdir(LAUNCH_DIR) if f.endswith(".launch"))
+        for name in GRAPH_FILES + ("record.launch",):
+            self.assertIn(name, names)
+        for name in names:
+            _, plugins = self.check(name, ARGS.get(name, []))
+            if name in GRAPH_FILES:
+                for p in ("cone_tracker/ConeTrackerNodelet", "pose_ekf/PoseEkfNodelet", "ar_overlay/OverlayNodelet"):
+                    self.assertIn(p, plugins, "%s: %s missing" % (name, p))
+        self.assertIn("imu_driver/ImuDriverNodelet", self.check("rig.launch", [])[1])
+        self.assertIn("aravis_camera/CameraNodelet", self.check("rig.launch", [])[1])
+        self.assertIn("imu_driver/ImuDriverNodelet", self.check("sim.launch", [])[1])  # the pty is the default
+        self.assertNotIn("imu_driver/ImuDriverNodelet", self.check("sim.launch", ["serial_pty:=false"])[1])
+
+    def test_a_broken_file_is_caught(self):
+        """The check can fail: a file without its required arg (bag:=) is refused."""
+        with self.assertRaises(AssertionError):
+            self.check("replay.launch", [])  # bag:= is required
+
+
+if __name__ == "__main__":
+    argv = [a for a in sys.argv[1:] if not a.startswith("__") and not a.startswith("--gtest")]
+    LAUNCH_DIR = argv[0]
+    for spec in argv[1:]:
+        name, _, args = spec.partition(":")
+        ARGS[name] = [a for a in args.split(",") if a]
+    import rostest
+    rostest.rosrun("ar_bringup", "launch_files", LaunchFilesTest)

@@ -1,0 +1,118 @@
+#!/usr/bin/env python3
+"""System test node: records the pipeline fed from a bag (launch/replay.launch), waits for the bag to
+end, evaluates against rig_sim's ground truth (ar_bringup.evaluation) and asserts the tolerances given
+as private parameters. How the tolerances were derived: test/README.md (repository root).
+
+Parameters (all optional; an absent tolerance is not asserted, but the figure is printed):
+  ~max_orientation_rms_deg, ~max_position_rms_m, ~max_overlay_rms_px, ~max_overlay_p95_px,
+  ~min_accepted_fraction, ~min_overlay_images (ar_overlay/image messages),
+  ~min_outage_s: expect an outage at least this long, then after the poses return, over
+  [t_back + ~recovery_start_s, + ~recovery_window_s]: ~max_recovery_orientation_deg, ~max_recovery_position_m.
+  ~figures_file: the figures as JSON (for scripts/calibrate_tolerances); ~end_idle_s, ~max_wait_s.
+"""
+import json
+import sys
+import time
+import unittest
+
+import rospy
+from sensor_msgs.msg import Image
+
+from ar_bringup import evaluation
+
+
+def param(name, default=None):
+    return rospy.get_param("~" + name, default)
+
+
+class SystemTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("system_test")
+        cls.overlay_images = 0
+        recorder = evaluation.Recorder()
+
+        def on_overlay(_):
+            cls.overlay_images += 1
+        overlay_sub = rospy.Subscriber("ar_overlay/image", Image, on_overlay, queue_size=100)
+        # The bag has ended when the truth has stopped for end_idle_s (wall time; sim time stops with it).
+        end_idle_s, max_wait_s = param("end_idle_s", 4.0), param("max_wait_s", 240.0)
+        start, last_count, last_change = time.monotonic(), 0, time.monotonic()
+        while not rospy.is_shutdown() and time.monotonic() - start < max_wait_s:
+            n = recorder.count("rig_sim/ground_truth")
+            if n != last_count:
+                last_count, last_change = n, time.monotonic()
+            elif n > 0 and time.monotonic() - last_change > end_idle_s:
+                break
+            time.sleep(0.2)
+        recorder.unregister()
+        overlay_sub.unregister()
+        cls.rec = recorder.recording()
+        cls.ev = evaluation.evaluate(cls.rec)
+        cls.figures = dict(cls.ev.summary)
+        cls.figures["overlay_images"] = cls.overlay_images
+        cls.figures.update(cls.recovery_figures())
+        print("SYSTEM_FIGURES " + json.dumps(cls.figures, sort_keys=True))
+        sys.stdout.flush()
+        if param("figures_file"):
+            with open(param("figures_file"), "w") as f:
+                json.dump(cls.figures, f, sort_keys=True, indent=1)
+
+    @classmethod
+    def recovery_figures(cls):
+        min_outage = param("min_outage_s")
+        if min_outage is None:
+            return {}
+        long_gaps = [g for g in cls.ev.outages if g[1] - g[0] >= min_outage]
+        out = {"longest_outage_s": max([g[1] - g[0] for g in cls.ev.outages], default=0.0)}
+        if long_gaps:
+            t_back = long_gaps[-1][1]
+            end_o, end_p = cls.ev.ekf_error_after(long_gaps[-1][1] - 0.1, 0.1)  # drift when the cones return
+            rec_o, rec_p = cls.ev.ekf_error_after(t_back + param("recovery_start_s", 1.0),
+                                                  param("recovery_window_s", 2.0))
+            out.update({"outage_end_orientation_deg": end_o, "outage_end_position_m": end_p,
+                        "recovered_orientation_deg": rec_o, "recovered_position_m": rec_p})
+        return out
+
+    def check_max(self, figure, tolerance_param):
+        tol = param(tolerance_param)
+        if tol is None:
+            return
+        self.assertIn(figure, self.figures, "%s was not measured" % figure)
+        value = self.figures[figure]
+        self.assertTrue(value == value, "%s is NaN (nothing measured?)" % figure)
+        self.assertLessEqual(value, tol, "%s = %.4g exceeds the tolerance %s = %.4g" % (figure, value, tolerance_param, tol))
+
+    def test_data_flowed(self):
+        self.assertGreater(len(self.rec.truth), 0, "no rig_sim/ground_truth: did the bag play?")
+        self.assertGreater(len(self.rec.tracker), 0, "no cone_tracker/pose")
+        self.assertGreater(len(self.rec.ekf), 0, "no pose_ekf/pose")
+        self.assertEqual(self.figures["ekf_nan"], 0, "the EKF published NaN")
+
+    def test_accuracy(self):
+        self.check_max("orientation_rms_deg", "max_orientation_rms_deg")
+        self.check_max("position_rms_m", "max_position_rms_m")
+        tol = param("min_accepted_fraction")
+        if tol is not None:
+            self.assertGreaterEqual(self.figures["accepted_fraction"], tol)
+
+    def test_overlay(self):
+        self.check_max("overlay_rms_px", "max_overlay_rms_px")
+        self.check_max("overlay_p95_px", "max_overlay_p95_px")
+        tol = param("min_overlay_images")
+        if tol is not None:
+            self.assertGreaterEqual(self.overlay_images, tol, "too few ar_overlay/image frames")
+
+    def test_recovery(self):
+        min_outage = param("min_outage_s")
+        if min_outage is None:
+            return
+        self.assertIn("recovered_orientation_deg", self.figures,
+                      "no outage of at least %.1f s (outages: %s)" % (min_outage, self.ev.outages))
+        self.check_max("recovered_orientation_deg", "max_recovery_orientation_deg")
+        self.check_max("recovered_position_m", "max_recovery_position_m")
+
+
+if __name__ == "__main__":
+    import rostest
+    rostest.rosrun("ar_bringup", "system_test", SystemTest)
