@@ -84,7 +84,7 @@ class ReportTest(unittest.TestCase):
         with open(os.path.join(out, "report.md")) as f:
             text = f.read()
         for needle in ("## Figures", "pose_error.png", "overlay_error.png", "gate_rejections.png",
-                       "| EKF position RMS, cones visible | 10 | mm |", "Cones in view: 0.00–1.00 s, 1.60–3.00 s"):
+                       "| EKF position RMS, cones visible | 10 | mm |", "Tracker poses: 0.00–1.00 s, 1.60–3.00 s"):
             self.assertIn(needle, text)
         for name in ("pose_error.png", "pose_error_norm.png", "overlay_error.png", "gate_rejections.png",
                      "rates.png", "overlay_sheet.png"):

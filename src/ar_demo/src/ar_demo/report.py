@@ -86,20 +86,28 @@ def write_report(summary, out_dir, video=None, screenshot=None, path=None):
     lines += ["## Figures", "", "| figure | value | unit |", "|---|---:|---|"]
     lines += ["| %s | %s | %s |" % (name, _fmt(value), unit) for name, value, unit in figures(summary)]
     lines += [""]
-    if summary.visible:
-        lines += ["Cones in view: " + ", ".join("%.2f–%.2f s" % p for p in summary.visible) + ".", ""]
-    else:
-        lines += ["The cones were never in view.", ""]
+    spans = lambda periods: ", ".join("%.2f–%.2f s" % p for p in periods) or "never"  # noqa: E731
+    lines += ["Cones in view (at least three detected): %s. Tracker poses: %s." % (spans(summary.visible),
+              spans(summary.accepted)), ""]
 
     lines += ["## Plots", ""]
     for name, caption in drawn:
         lines += [caption[0].upper() + caption[1:] + ":", "", "![%s](%s)" % (name, name), ""]
 
-    if summary.gates:
-        lines += ["## Gate rejections", "", "| gate | rejections | first at |", "|---|---:|---:|"]
-        for name, times in sorted(summary.gates.items()):
+    if summary.evaluation:
+        lines += ["`ar_bringup.evaluation`'s summary of the same run (the system tests' figures; RMS "
+                  "figures skip the EKF's first second):", "", "| figure | value |", "|---|---:|"]
+        lines += ["| `%s` | %s |" % (k, _fmt(v)) for k, v in summary.evaluation.items()] + [""]
+    names = sorted(set(summary.gates) | set(summary.rejection_totals))
+    if names:
+        lines += ["## Gate rejections", "", "Counters from `/diagnostics` (value at the end of the run) and "
+                  "cone_tracker's per-frame rejection reasons:", "",
+                  "| gate or counter | rejections | first at |", "|---|---:|---:|"]
+        for name in names:
+            times = summary.gates.get(name, [])
+            total = summary.rejection_totals.get(name, len(times))
             first = "%.2f s" % min(times) if len(times) else "—"
-            lines.append("| %s | %d | %s |" % (name.replace("|", "\\|"), len(times), first))
+            lines.append("| %s | %s | %s |" % (name.replace("|", "\\|"), _fmt(total), first))
         lines += [""]
     if summary.rates:
         lines += ["## Rates", "", "| topic | measured [Hz] | expected [Hz] |", "|---|---:|---:|"]

@@ -1,7 +1,7 @@
 """What the report shows about one replay, as plain arrays, and the figures computed from them.
 
-`RunSummary` is filled from the evaluation of a recorded replay against rig_sim's ground truth
-(see `from_evaluation.py`); the plots and the Markdown only read it. Times are seconds from the
+`RunSummary` is filled from ar_bringup's evaluation of a recorded replay against rig_sim's ground
+truth (see `from_evaluation.py`); the plots and the Markdown only read it. Times are seconds from the
 start of the replay; errors are estimate minus truth in the `cones` frame (rotation errors as the
 rotation vector of R_est R_truth^T, i.e. a left perturbation, as ROS's covariance is defined).
 """
@@ -31,10 +31,13 @@ class RunSummary:
         self.duration_s = 0.0
         self.ekf = None  # PoseErrors with the 3σ arrays
         self.tracker = None  # PoseErrors of cone_tracker's single-frame poses, or None
-        self.visible = []  # [(t0_s, t1_s)] when the cones were in view
+        self.visible = []  # [(t0_s, t1_s)] when the cones were in view (>= 3 detected)
+        self.accepted = []  # [(t0_s, t1_s)] when the tracker published poses
         self.overlay_t_s = np.zeros(0)
         self.overlay_err_px = np.zeros(0)
         self.gates = {}  # {gate name: array of rejection times [s]}
+        self.rejection_totals = {}  # {counter name: final value}, from ar_bringup.evaluation
+        self.evaluation = {}  # ar_bringup.evaluation's summary figures, by name
         self.rates = []  # [(topic, measured_hz, expected_hz or None)]
         self.notes = []  # lines the evaluation wants shown (what it could not compute, and why)
 
