@@ -1,56 +1,98 @@
 #!/usr/bin/env bash
 # `make demo`: replays the bundled sample bag through the whole pipeline (launch/demo.launch: the
 # nodelets in one manager, rviz, the outputs recorded), headless under Xvfb, then writes the report,
-# the overlay video and the rviz screenshot to OUT_DIR (default out/).
+# the overlay video and the rviz screenshot to OUT_DIR (default out/); then the same, without rviz,
+# for a second bag with the cones out of view for a while, into OUT_DIR/<its name>/.
 # Usage: scripts/demo.sh [OUT_DIR] [BAG]   (needs a built, sourced workspace: `make demo` does both)
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 OUT="$(realpath -m "${1:-$ROOT/out}")"
 BAG="$(realpath "${2:-$ROOT/rosbags/handheld_sample.bag}")"
 LIB="$ROOT/catkin_ws/devel/lib"
+SECOND_BAG="${DEMO_SECOND_BAG-$ROOT/rosbags/look_away_sample.bag}"  # an outage and the recovery; "" skips it
 SCREENSHOT_AT_S="${DEMO_SCREENSHOT_AT_S:-6.0}"  # sim seconds into the bag
-# The sample's three identical cones look the same every 120 degrees: the tracker starts from the
-# camera's bearing around them (handheld_sample.bag starts at 64 degrees; see README.md).
-HEADING_PRIOR_DEG="${DEMO_HEADING_PRIOR_DEG:-64}"
 mkdir -p "$OUT"
-RUN_BAG="$OUT/demo_run.bag"
-rm -f "$RUN_BAG" "$OUT/rviz.png"
-
-# The sample bags are bz2-compressed to keep the repository small. rosbag play cannot decompress
-# them at the camera rate on a loaded 2-core machine: it falls behind, publishes everything at once
-# and never advances /clock. So the demo replays an uncompressed copy.
-INPUT="$OUT/.replay_input.bag"
-cp "$BAG" "$INPUT"
-rosbag decompress -q "$INPUT" >/dev/null
-rm -f "${INPUT%.bag}.orig.bag"
-# rviz: ar_overlay's overlay.rviz with the view moved to frame this bag's camera path.
-RVIZ_CONFIG="$OUT/.demo.rviz"
-rosrun ar_demo demo_rviz_config "$(rospack find ar_overlay)/rviz/overlay.rviz" "$INPUT" "$RVIZ_CONFIG"
 
 # A private master on a random port, so a roscore already running is never disturbed; software GL
 # for rviz under Xvfb (the overlay nodelet renders through EGL on its own).
 export ROS_MASTER_URI="http://localhost:$((20000 + RANDOM % 20000))"
 export LIBGL_ALWAYS_SOFTWARE=1
-echo "demo: replaying $(basename "$BAG") through launch/demo.launch (log: $OUT/demo_launch.log)"
-xvfb-run -a -s "-screen 0 1500x900x24" bash -c '
-  set -u
-  port="${ROS_MASTER_URI##*:}"
-  roslaunch -p "$port" "$1/launch/demo.launch" bag:="$2" record_to:="$3" rviz:=true rviz_config:="$6" heading_prior_deg:="$7" >"$4/demo_launch.log" 2>&1 &
-  launch_pid=$!
-  rosrun ar_demo grab_screen "$4/rviz.png" --bag "$2" --after-s "$5" --timeout-s 300 &
-  grab_pid=$!
-  wait "$launch_pid"
-  kill "$grab_pid" 2>/dev/null && echo "demo: the replay ended before the rviz screenshot was taken"
-  wait "$grab_pid" 2>/dev/null
-  true
-' _ "$ROOT" "$INPUT" "$RUN_BAG" "$OUT" "$SCREENSHOT_AT_S" "$RVIZ_CONFIG" "$HEADING_PRIOR_DEG"
-[[ -f "$RUN_BAG" ]] || { echo "demo: the replay recorded nothing; see $OUT/demo_launch.log" >&2; exit 1; }
 
-SHOT=()
-[[ -f "$OUT/rviz.png" ]] && SHOT=(--screenshot "$OUT/rviz.png")
-rosrun ar_demo demo_report --run "$RUN_BAG" --truth "$INPUT" --name "$(basename "$BAG")" --out "$OUT" "${SHOT[@]}"
-rm -f "$INPUT" "$RVIZ_CONFIG"
+# The bearing of the camera around the cones at the bag's start, atan2(y, x) in `cones` (deg): the
+# sample's three identical cones look the same every 120 degrees, and a user starting the rig says
+# where they stand (heading_prior_deg). Here it comes from the first ground-truth sample.
+start_heading_deg() {
+  /usr/bin/python3 - "$1" <<'PY'
+import math, sys
+import rosbag
+with rosbag.Bag(sys.argv[1]) as bag:
+    for _, m, _ in bag.read_messages(topics=["rig_sim/ground_truth"]):
+        print("%.0f" % math.degrees(math.atan2(m.pose.position.y, m.pose.position.x)))
+        break
+PY
+}
+
+# replay BAG DIR RVIZ: launch/demo.launch on BAG under Xvfb, outputs recorded to DIR/demo_run.bag,
+# with RVIZ=true a screenshot DIR/rviz.png; then the report DIR/report.md with plots and video.
+replay() {
+  local bag="$1" dir="$2" rviz="$3"
+  mkdir -p "$dir"
+  rm -f "$dir/demo_run.bag" "$dir/rviz.png"
+  # The sample bags are bz2-compressed to keep the repository small. rosbag play cannot decompress
+  # them at the camera rate on a loaded 2-core machine: it falls behind, publishes everything at
+  # once and never advances /clock. So the demo replays an uncompressed copy.
+  local input="$dir/.replay_input.bag" config="$dir/.demo.rviz"
+  cp "$bag" "$input"
+  rosbag decompress -q "$input" >/dev/null
+  rm -f "${input%.bag}.orig.bag"
+  # rviz: ar_overlay's overlay.rviz with the view moved to frame this bag's camera path.
+  rosrun ar_demo demo_rviz_config "$(rospack find ar_overlay)/rviz/overlay.rviz" "$input" "$config"
+  local heading
+  heading="$(start_heading_deg "$input")"
+  echo "demo: replaying $(basename "$bag") (start bearing ${heading} deg) through launch/demo.launch (log: $dir/demo_launch.log)"
+  xvfb-run -a -s "-screen 0 1500x900x24" bash -c '
+    set -u
+    port="${ROS_MASTER_URI##*:}"
+    roslaunch -p "$port" "$1/launch/demo.launch" bag:="$2" record_to:="$3/demo_run.bag" rviz:="$4" \
+      rviz_config:="$5" heading_prior_deg:="$6" >"$3/demo_launch.log" 2>&1 &
+    launch_pid=$!
+    if [[ "$4" == true ]]; then
+      rosrun ar_demo grab_screen "$3/rviz.png" --bag "$2" --after-s "$7" --timeout-s 300 &
+      grab_pid=$!
+    fi
+    wait "$launch_pid"
+    if [[ "$4" == true ]]; then
+      kill "$grab_pid" 2>/dev/null && echo "demo: the replay ended before the rviz screenshot was taken"
+      wait "$grab_pid" 2>/dev/null
+    fi
+    true
+  ' _ "$ROOT" "$input" "$dir" "$rviz" "$config" "$heading" "$SCREENSHOT_AT_S"
+  [[ -f "$dir/demo_run.bag" ]] || { echo "demo: the replay recorded nothing; see $dir/demo_launch.log" >&2; return 1; }
+  local shot=()
+  if [[ -f "$dir/rviz.png" ]]; then shot=(--screenshot "$dir/rviz.png"); fi
+  rosrun ar_demo demo_report --run "$dir/demo_run.bag" --truth "$input" --name "$(basename "$bag")" \
+    --out "$dir" "${shot[@]}"
+  rm -f "$input" "$config"
+}
+
+replay "$BAG" "$OUT" true
 REPORT="$OUT/report.md"
+
+# The second scenario: the camera turns away from the cones and back (the gyro experiment, 7.3).
+if [[ -n "$SECOND_BAG" ]]; then
+  name="$(basename "$SECOND_BAG" .bag)"
+  replay "$(realpath "$SECOND_BAG")" "$OUT/$name" false
+  {
+    echo "## Second scenario: $name.bag"
+    echo
+    echo "The camera turns away from the cones and back: the EKF carries the pose on the gyros while"
+    echo "they are out of view. Its own report: [\`$name/report.md\`]($name/report.md)."
+    echo
+    sed -n '/^## Figures/,/^## Plots/p' "$OUT/$name/report.md" | sed '1,2d;$d'
+    echo "![pose error]($name/pose_error.png)"
+    echo
+  } >> "$REPORT"
+fi
 
 # Appendix: the bundled sample bags and the validator's verdict, what the simulated camera sees in
 # three scenarios, and pose_math's single-frame uncertainty of the thesis's layout.
@@ -79,6 +121,7 @@ REPORT="$OUT/report.md"
 echo
 echo "demo: the results are in $OUT/"
 for f in report.md overlay.mp4 overlay_frames overlay_sheet.png rviz.png pose_error.png \
-         pose_error_norm.png overlay_error.png gate_rejections.png rates.png demo_run.bag; do
+         pose_error_norm.png overlay_error.png gate_rejections.png rates.png demo_run.bag \
+         look_away_sample/report.md look_away_sample/overlay.mp4; do
   if [[ -e "$OUT/$f" ]]; then echo "  $OUT/$f"; fi
 done
