@@ -12,11 +12,11 @@
 
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <nodelet/nodelet.h>
-#include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
 #include <tf2_msgs/TFMessage.h>
+#include <pluginlib/class_list_macros.hpp>
 
 #include "ar_bringup/latency_matcher.h"
 
@@ -106,9 +106,9 @@ class LatencyProbeNodelet : public nodelet::Nodelet {
           << ", \"ekf_poses\": " << ekf_poses_ << ", \"ekf_nan\": " << ekf_nan_ << ", \"imu\": " << imu_
           << ", \"tf\": " << tf_ << ", \"unmatched_poses\": " << matcher_.unmatched_poses()
           << ",\n \"latency\": {\"count\": " << e2e.count << ", \"median_ms\": " << e2e.median_ms
-          << ", \"p99_ms\": " << e2e.p99_ms << ", \"max_ms\": " << e2e.max_ms << "},\n \"tracker_latency\": {\"count\": "
-          << trk.count << ", \"median_ms\": " << trk.median_ms << ", \"p99_ms\": " << trk.p99_ms
-          << ", \"max_ms\": " << trk.max_ms << "},\n \"rss_kb\": [";
+          << ", \"p99_ms\": " << e2e.p99_ms << ", \"max_ms\": " << e2e.max_ms
+          << "},\n \"tracker_latency\": {\"count\": " << trk.count << ", \"median_ms\": " << trk.median_ms
+          << ", \"p99_ms\": " << trk.p99_ms << ", \"max_ms\": " << trk.max_ms << "},\n \"rss_kb\": [";
       for (size_t i = 0; i < rss_kb_.size(); ++i) out << (i ? ", " : "") << rss_kb_[i];
       out << "]}\n";
     }
