@@ -1,0 +1,51 @@
+// Parameters of the cone_tracker nodelet: one struct, filled and validated by
+// LoadConfig (names are the private parameters' names, units in the names).
+#pragma once
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "cone_tracker/vision/cone_pose.h"
+#include "cone_tracker/vision/segmenter.h"
+
+namespace ros {
+class NodeHandle;
+}
+
+namespace cone_tracker {
+
+struct DebugImageConfig {
+  bool tint_mask = true;      // colour the classified cone pixels
+  bool draw_rejected = true;  // outline rejected blobs with their failed gates
+  bool draw_text = true;      // ids, gate outcome, chi-square
+};
+
+struct NodeConfig {
+  std::string layout_file;                      // rig_sim layout schema (layout.h); required
+  std::string fixed_frame = "cones";            // header.frame_id of the pose and the markers
+  std::string camera_frame = "camera_optical";  // child frame of the tf prediction (pose_ekf's)
+  // Prediction for correspondence and the motion gate (3.1.6, 6.4.2): tf
+  // fixed_frame -> camera_frame at the image stamp (pose_ekf), else the latest
+  // transform if not older than prediction_max_age_s, else the last accepted
+  // pose if not older than that, else none (linear initialisation).
+  bool use_tf_prediction = true;
+  double prediction_max_age_s = 0.5;
+  // Tie-break among the rotations of a symmetric layout without a prediction:
+  // the camera's bearing around the layout, atan2(y, x) of its position in
+  // `cones` (deg). NaN: none.
+  double heading_prior_deg = NAN;
+  double expected_rate_hz = 30.0;  // diagnostics' frequency check on published poses
+  double rate_tolerance = 0.5;     // +-50 % of expected_rate_hz
+  SegmenterConfig segmenter;
+  ConePoseConfig pose;
+  DebugImageConfig debug;
+};
+
+// Throws std::invalid_argument naming the bad parameter (or layout field).
+// The layout file itself is read by the adapter (LoadLayoutFile).
+NodeConfig LoadConfig(const ros::NodeHandle& private_nh);
+// Validates everything but the layout file; throws std::invalid_argument.
+void ValidateConfig(const NodeConfig& config);
+
+}  // namespace cone_tracker

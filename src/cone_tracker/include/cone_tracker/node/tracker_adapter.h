@@ -1,0 +1,110 @@
+// The cone_tracker adapter: sensor_msgs in, pose and detection messages out,
+// around the ROS-free core (Segmenter, EstimateConePose). No publishers and no
+// master needed, so tests can feed it from a bag deterministically; the
+// nodelet adds subscriptions, tf, publishing and diagnostics.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <geometry_msgs/PoseWithCovarianceStamped.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+
+#include "cone_tracker/ConeDetections.h"
+#include "cone_tracker/node/node_config.h"
+#include "cone_tracker/vision/cone_pose.h"
+#include "cone_tracker/vision/segmenter.h"
+
+namespace cone_tracker {
+
+enum class FrameStatus {
+  kPose,                 // a pose passed every gate
+  kNoCameraInfo,         // no camera_info received yet
+  kBadCameraInfo,        // the latest camera_info is invalid (NaN, zero focal length, ...)
+  kBadImage,             // empty, too small, inconsistent step or size, unreadable
+  kUnsupportedEncoding,  // not rgb8, bgr8 or bayer_*8
+  kSizeMismatch,         // image size differs from camera_info's
+  kNoCones,              // no blob passed the segmentation gates
+  kTooFewCones,          // 1-2 cones, or fewer than 3 matching the prediction
+  kSolverFailed,
+  kRejectedChi2,    // 6.4.1
+  kRejectedMotion,  // 6.4.2
+};
+const char* ToString(FrameStatus s);
+
+struct FrameResult {
+  FrameStatus status = FrameStatus::kBadImage;
+  std::string message;  // why there is no pose; empty with a pose
+  // Null when the image could not be segmented (bad image, encoding, camera_info).
+  ConeDetections::Ptr detections;
+  geometry_msgs::PoseWithCovarianceStamped::Ptr pose;  // null: no pose for this frame
+  SegmentationResult segmentation;
+  ConePoseResult cone_pose;
+  std::string prediction_source = "none";
+  bool time_jumped_back = false;  // the stamp went back: the last pose was cleared
+};
+
+struct TrackerCounters {
+  uint64_t frames = 0, poses = 0;
+  uint64_t no_camera_info = 0, bad_camera_info_frames = 0, bad_camera_info_msgs = 0;
+  uint64_t bad_image = 0, unsupported_encoding = 0, size_mismatch = 0;
+  uint64_t no_cones = 0, too_few_cones = 0, solver_failed = 0, rejected_chi2 = 0, rejected_motion = 0;
+  uint64_t time_jumps = 0;
+  uint64_t cones_found_sum = 0;  // accepted blobs over segmented frames
+  uint64_t segmented_frames = 0;
+  std::map<std::string, uint64_t> blobs_rejected_by_gate;  // segmentation gate name -> blobs
+};
+
+class TrackerAdapter {
+ public:
+  // Throws std::invalid_argument on a bad config or layout.
+  TrackerAdapter(const NodeConfig& config, const std::vector<ConeModel>& layout);
+
+  // Keeps the latest camera_info. Returns false with a message when K or D is
+  // unusable; frames then give kBadCameraInfo until a valid one arrives.
+  bool SetCameraInfo(const sensor_msgs::CameraInfo& info, std::string* error);
+  // One frame. tf_T_cones_camera: the prediction from tf (pose_ekf), if any.
+  FrameResult Process(const sensor_msgs::ImageConstPtr& image, const std::optional<pose_math::Pose>& tf_T_cones_camera);
+  // dynamic_reconfigure: the colour table is rebuilt when the HSI bounds
+  // change. Throws std::invalid_argument (config unchanged) on bad values.
+  void Reconfigure(const SegmenterConfig& segmenter, const ConePoseConfig& pose, const DebugImageConfig& debug);
+  // Forget the last pose (time jump, reset).
+  void ClearTrack();
+
+  const NodeConfig& config() const { return config_; }
+  const std::vector<ConeModel>& layout() const { return layout_; }
+  const TrackerCounters& counters() const { return counters_; }
+  const Segmenter& segmenter() const { return segmenter_; }
+  bool has_camera_info() const { return has_camera_info_; }
+  bool camera_info_valid() const { return camera_valid_; }
+  const std::string& camera_info_error() const { return camera_error_; }
+
+ private:
+  FrameResult Fail(FrameStatus status, const std::string& message);
+  std::optional<pose_math::Pose> Prediction(const ros::Time& stamp,
+                                            const std::optional<pose_math::Pose>& tf_T_cones_camera,
+                                            std::string* source) const;
+  void FillPose(const sensor_msgs::Image& image, const std::optional<pose_math::Pose>& T_cones_camera_pred,
+                FrameResult* r);
+
+  NodeConfig config_;
+  std::vector<ConeModel> layout_;
+  Segmenter segmenter_;
+  CameraModel camera_;
+  int camera_width_ = 0, camera_height_ = 0;
+  bool has_camera_info_ = false, camera_valid_ = false;
+  std::string camera_error_;
+  std::optional<pose_math::Pose> last_T_cones_camera_;
+  ros::Time last_pose_stamp_, last_image_stamp_;
+  TrackerCounters counters_;
+};
+
+// Names of the set bits of GateBits / PoseGateBits.
+std::vector<std::string> SegmentationGateNames(uint32_t bits);
+std::vector<std::string> PoseGateNames(uint32_t bits);
+
+}  // namespace cone_tracker

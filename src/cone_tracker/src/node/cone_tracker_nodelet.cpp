@@ -1,0 +1,293 @@
+// The cone_tracker nodelet: subscriptions, tf prediction, publishing,
+// diagnostics and dynamic_reconfigure around TrackerAdapter. Image, camera_info
+// and reconfigure callbacks all run on the nodelet's single-threaded queue, so
+// there is no locking (tf's listener thread only fills its own thread-safe buffer).
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <diagnostic_updater/update_functions.h>
+#include <dynamic_reconfigure/server.h>
+#include <image_transport/image_transport.h>
+#include <nodelet/nodelet.h>
+#include <ros/ros.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+#include <pluginlib/class_list_macros.hpp>
+
+#include <memory>
+#include <optional>
+#include <set>
+
+#include "cone_tracker/ConeTrackerConfig.h"
+#include "cone_tracker/node/layout.h"
+#include "cone_tracker/node/tracker_adapter.h"
+#include "cone_tracker/node/visuals.h"
+
+namespace cone_tracker {
+
+namespace {
+struct RunningStat {
+  double last = 0, max = 0, sum = 0;
+  uint64_t n = 0;
+  void Add(double v) { last = v, max = std::max(max, v), sum += v, ++n; }
+  double mean() const { return n ? sum / double(n) : 0.0; }
+};
+}  // namespace
+
+class ConeTrackerNodelet : public nodelet::Nodelet {
+ private:
+  void onInit() override;
+  void OnImage(const sensor_msgs::ImageConstPtr& msg);
+  void OnCameraInfo(const sensor_msgs::CameraInfoConstPtr& msg);
+  void OnReconfigure(ConeTrackerConfig& cfg, uint32_t level);
+  std::optional<pose_math::Pose> TfPrediction(const ros::Time& stamp);
+  void Report(const FrameResult& r, const sensor_msgs::Image& image);
+  void Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
+
+  std::unique_ptr<TrackerAdapter> adapter_;
+  std::string fatal_;  // why the tracker is not running (bad parameter or layout)
+  std::unique_ptr<image_transport::ImageTransport> it_;
+  image_transport::Subscriber image_sub_;
+  image_transport::Publisher debug_pub_;
+  ros::Subscriber info_sub_;
+  ros::Publisher pose_pub_, detections_pub_, markers_pub_;
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  std::unique_ptr<diagnostic_updater::Updater> updater_;
+  double min_hz_ = 0, max_hz_ = 0;
+  std::unique_ptr<diagnostic_updater::FrequencyStatus> pose_freq_;
+  ros::Timer diagnostics_timer_;
+  boost::recursive_mutex reconfigure_mutex_;  // lets updateConfig() seed the server safely
+  std::unique_ptr<dynamic_reconfigure::Server<ConeTrackerConfig>> reconfigure_;
+  std::set<std::string> encodings_reported_;
+  std::string last_problem_;
+  FrameStatus last_status_ = FrameStatus::kNoCameraInfo;
+  bool any_frame_ = false;
+  RunningStat latency_ms_, processing_ms_;
+  uint64_t tf_predictions_ = 0, debug_images_ = 0;
+};
+
+void ConeTrackerNodelet::onInit() {
+  ros::NodeHandle& nh = getNodeHandle();
+  ros::NodeHandle& pnh = getPrivateNodeHandle();
+  updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
+  updater_->setHardwareID("cone_tracker");
+  updater_->add("tracker", this, &ConeTrackerNodelet::Diagnose);
+  diagnostics_timer_ = nh.createTimer(ros::Duration(0.1), [this](const ros::TimerEvent&) { updater_->update(); });
+
+  NodeConfig config;
+  std::vector<ConeModel> layout;
+  std::string error;
+  try {
+    config = LoadConfig(pnh);
+    if (!LoadLayoutFile(config.layout_file, &layout, &error)) throw std::invalid_argument(error);
+    adapter_ = std::make_unique<TrackerAdapter>(config, layout);
+  } catch (const std::exception& e) {
+    fatal_ = e.what();
+    NODELET_FATAL("cone_tracker: %s; the tracker is not started", e.what());
+    return;
+  }
+  if (LayoutHasRotationalSymmetry(layout)) {
+    NODELET_WARN(
+        "cone_tracker: the layout in %s is rotationally symmetric (identical cones): without a prediction the "
+        "rotated poses fit equally well; heading_prior_deg (%s) picks one. Asymmetric layouts (different heights, "
+        "uneven spacing, a stacked cone) avoid this.",
+        config.layout_file.c_str(),
+        std::isnan(config.heading_prior_deg) ? "not set" : std::to_string(config.heading_prior_deg).c_str());
+  }
+
+  min_hz_ = config.expected_rate_hz * (1.0 - config.rate_tolerance);
+  max_hz_ = config.expected_rate_hz * (1.0 + config.rate_tolerance);
+  pose_freq_ = std::make_unique<diagnostic_updater::FrequencyStatus>(
+      diagnostic_updater::FrequencyStatusParam(&min_hz_, &max_hz_, 0.0, 10), "pose rate");
+  updater_->add(*pose_freq_);
+
+  if (config.use_tf_prediction) {
+    tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
+    tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
+  }
+  pose_pub_ = nh.advertise<geometry_msgs::PoseWithCovarianceStamped>("cone_tracker/pose", 10);
+  detections_pub_ = nh.advertise<ConeDetections>("cone_tracker/detections", 10);
+  markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("cone_tracker/cones", 1, /*latch=*/true);
+  markers_pub_.publish(
+      boost::make_shared<visualization_msgs::MarkerArray>(MakeLayoutMarkers(layout, config.fixed_frame)));
+  it_ = std::make_unique<image_transport::ImageTransport>(nh);
+  debug_pub_ = it_->advertise("cone_tracker/debug_image", 1);
+
+  reconfigure_ = std::make_unique<dynamic_reconfigure::Server<ConeTrackerConfig>>(reconfigure_mutex_, pnh);
+  ConeTrackerConfig current;  // start from the loaded parameters, not the .cfg defaults
+  const SegmenterConfig& s = config.segmenter;
+  current.hue_min_deg = s.hsi.hue_min_rad * 180.0 / M_PI, current.hue_max_deg = s.hsi.hue_max_rad * 180.0 / M_PI;
+  current.sat_min = s.hsi.sat_min, current.sat_max = s.hsi.sat_max;
+  current.val_min = s.hsi.val_min, current.val_max = s.hsi.val_max;
+  current.min_area_px = s.min_area_px, current.max_area_px = s.max_area_px, current.border_px = s.border_px;
+  current.min_solidity = s.min_solidity, current.max_solidity = s.max_solidity;
+  current.min_axis_ratio = s.min_axis_ratio, current.max_axis_ratio = s.max_axis_ratio;
+  current.max_tilt_deg = s.max_tilt_deg;
+  current.merge_lateral_frac = s.merge_lateral_frac, current.merge_gap_frac = s.merge_gap_frac;
+  const ConePoseConfig& p = config.pose;
+  current.sigma_px = p.sigma_px, current.max_assignment_px = p.max_assignment_px;
+  current.chi2_probability = p.chi2_probability;
+  current.max_translation_change_m = p.max_translation_change_m;
+  current.max_rotation_change_deg = p.max_rotation_change_deg;
+  current.debug_tint_mask = config.debug.tint_mask, current.debug_draw_rejected = config.debug.draw_rejected;
+  current.debug_draw_text = config.debug.draw_text;
+  reconfigure_->updateConfig(current);
+  reconfigure_->setCallback([this](ConeTrackerConfig& cfg, uint32_t level) { OnReconfigure(cfg, level); });
+
+  info_sub_ = nh.subscribe("camera/camera_info", 1, &ConeTrackerNodelet::OnCameraInfo, this);
+  image_sub_ = it_->subscribe("camera/image_raw", 2, &ConeTrackerNodelet::OnImage, this);
+  NODELET_INFO("cone_tracker: %zu cones from %s; %s + %s -> cone_tracker/pose in '%s'", layout.size(),
+               config.layout_file.c_str(), image_sub_.getTopic().c_str(), info_sub_.getTopic().c_str(),
+               config.fixed_frame.c_str());
+}
+
+void ConeTrackerNodelet::OnReconfigure(ConeTrackerConfig& cfg, uint32_t /*level*/) {
+  NodeConfig c = adapter_->config();
+  SegmenterConfig& s = c.segmenter;
+  s.hsi.hue_min_rad = cfg.hue_min_deg * M_PI / 180.0, s.hsi.hue_max_rad = cfg.hue_max_deg * M_PI / 180.0;
+  s.hsi.sat_min = cfg.sat_min, s.hsi.sat_max = cfg.sat_max, s.hsi.val_min = cfg.val_min, s.hsi.val_max = cfg.val_max;
+  s.min_area_px = cfg.min_area_px, s.max_area_px = cfg.max_area_px, s.border_px = cfg.border_px;
+  s.min_solidity = cfg.min_solidity, s.max_solidity = cfg.max_solidity;
+  s.min_axis_ratio = cfg.min_axis_ratio, s.max_axis_ratio = cfg.max_axis_ratio, s.max_tilt_deg = cfg.max_tilt_deg;
+  s.merge_lateral_frac = cfg.merge_lateral_frac, s.merge_gap_frac = cfg.merge_gap_frac;
+  ConePoseConfig& p = c.pose;
+  p.sigma_px = cfg.sigma_px, p.max_assignment_px = cfg.max_assignment_px, p.chi2_probability = cfg.chi2_probability;
+  p.max_translation_change_m = cfg.max_translation_change_m, p.max_rotation_change_deg = cfg.max_rotation_change_deg;
+  c.debug = DebugImageConfig{cfg.debug_tint_mask, cfg.debug_draw_rejected, cfg.debug_draw_text};
+  try {
+    adapter_->Reconfigure(c.segmenter, c.pose, c.debug);
+  } catch (const std::exception& e) {
+    NODELET_WARN("cone_tracker: reconfigure refused, settings unchanged: %s", e.what());
+  }
+}
+
+void ConeTrackerNodelet::OnCameraInfo(const sensor_msgs::CameraInfoConstPtr& msg) {
+  if (!adapter_) return;
+  const bool was_valid = adapter_->has_camera_info() && adapter_->camera_info_valid();
+  std::string error;
+  if (!adapter_->SetCameraInfo(*msg, &error)) {
+    NODELET_ERROR_THROTTLE(5.0, "cone_tracker: %s on %s; no pose until a valid one arrives", error.c_str(),
+                           info_sub_.getTopic().c_str());
+  } else if (!was_valid && adapter_->has_camera_info()) {
+    NODELET_INFO_ONCE("cone_tracker: camera_info received (%ux%u)", msg->width, msg->height);
+  }
+}
+
+// The pose_ekf estimate at the image stamp; if tf does not reach that stamp
+// yet, the latest transform when it is recent enough. Never waits.
+std::optional<pose_math::Pose> ConeTrackerNodelet::TfPrediction(const ros::Time& stamp) {
+  if (!tf_buffer_) return std::nullopt;
+  const NodeConfig& c = adapter_->config();
+  geometry_msgs::TransformStamped tf;
+  try {
+    if (tf_buffer_->canTransform(c.fixed_frame, c.camera_frame, stamp)) {
+      tf = tf_buffer_->lookupTransform(c.fixed_frame, c.camera_frame, stamp);
+    } else {
+      tf = tf_buffer_->lookupTransform(c.fixed_frame, c.camera_frame, ros::Time(0));
+      if (std::abs((stamp - tf.header.stamp).toSec()) > c.prediction_max_age_s) return std::nullopt;
+    }
+  } catch (const tf2::TransformException&) {
+    return std::nullopt;  // no pose_ekf running: the last pose or the linear algorithms take over
+  }
+  const auto& q = tf.transform.rotation;
+  const auto& t = tf.transform.translation;
+  pose_math::Pose T;
+  T.q = pose_math::Quat(q.w, q.x, q.y, q.z).normalized();
+  T.t = Eigen::Vector3d(t.x, t.y, t.z);
+  if (!T.q.allFinite() || !T.t.allFinite()) return std::nullopt;
+  ++tf_predictions_;
+  return T;
+}
+
+void ConeTrackerNodelet::OnImage(const sensor_msgs::ImageConstPtr& msg) {
+  if (!adapter_) return;
+  const ros::WallTime start = ros::WallTime::now();
+  try {
+    any_frame_ = true;
+    const FrameResult r = adapter_->Process(msg, TfPrediction(msg->header.stamp));
+    if (r.pose) {
+      pose_pub_.publish(r.pose);
+      pose_freq_->tick();
+      latency_ms_.Add((ros::Time::now() - msg->header.stamp).toSec() * 1e3);
+    }
+    if (r.detections) detections_pub_.publish(r.detections);
+    if (debug_pub_.getNumSubscribers() > 0 && r.status != FrameStatus::kUnsupportedEncoding &&
+        r.status != FrameStatus::kBadImage) {
+      if (auto img = MakeDebugImage(msg, adapter_->segmenter().mask(), r, adapter_->config().debug)) {
+        debug_pub_.publish(img);
+        ++debug_images_;
+      }
+    }
+    Report(r, *msg);
+  } catch (const std::exception& e) {
+    last_problem_ = std::string("image callback failed: ") + e.what();
+    NODELET_WARN_THROTTLE(1.0, "cone_tracker: %s", last_problem_.c_str());
+  }
+  processing_ms_.Add((ros::WallTime::now() - start).toSec() * 1e3);
+}
+
+void ConeTrackerNodelet::Report(const FrameResult& r, const sensor_msgs::Image& image) {
+  last_status_ = r.status;
+  if (r.time_jumped_back) NODELET_WARN("cone_tracker: image stamp went back in time; the last pose is forgotten");
+  if (r.status == FrameStatus::kPose) return;
+  last_problem_ = std::string(ToString(r.status)) + ": " + r.message;
+  switch (r.status) {
+    case FrameStatus::kUnsupportedEncoding:
+      if (encodings_reported_.insert(image.encoding).second) NODELET_ERROR("cone_tracker: %s", r.message.c_str());
+      break;
+    case FrameStatus::kBadImage:
+    case FrameStatus::kNoCameraInfo:
+    case FrameStatus::kBadCameraInfo:
+    case FrameStatus::kSizeMismatch:
+      NODELET_WARN_THROTTLE(5.0, "cone_tracker: %s", last_problem_.c_str());
+      break;
+    default:
+      NODELET_DEBUG("cone_tracker: %s", last_problem_.c_str());  // no cones in view is normal
+  }
+}
+
+void ConeTrackerNodelet::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  using diagnostic_msgs::DiagnosticStatus;
+  if (!adapter_) {
+    stat.summary(DiagnosticStatus::ERROR, "not running: " + fatal_);
+    return;
+  }
+  if (adapter_->has_camera_info() && !adapter_->camera_info_valid()) {
+    stat.summary(DiagnosticStatus::ERROR, "invalid camera_info: " + adapter_->camera_info_error());
+  } else if (!any_frame_) {
+    stat.summary(DiagnosticStatus::WARN, "waiting for images");
+  } else if (last_status_ == FrameStatus::kPose) {
+    stat.summary(DiagnosticStatus::OK, "tracking");
+  } else {
+    stat.summary(DiagnosticStatus::WARN, "no pose: " + last_problem_);
+  }
+  const TrackerCounters& c = adapter_->counters();
+  stat.add("last problem", last_problem_);
+  stat.add("frames", c.frames);
+  stat.add("poses published", c.poses);
+  stat.add("cones found (mean per segmented frame)",
+           c.segmented_frames ? double(c.cones_found_sum) / double(c.segmented_frames) : 0.0);
+  stat.add("frames with no cones", c.no_cones);
+  stat.add("frames with too few cones", c.too_few_cones);
+  stat.add("rejected by chi-square gate", c.rejected_chi2);
+  stat.add("rejected by motion gate", c.rejected_motion);
+  stat.add("pose solver failures", c.solver_failed);
+  for (const auto& [gate, n] : c.blobs_rejected_by_gate) stat.add("blobs rejected by gate " + gate, n);
+  stat.add("unsupported encoding frames", c.unsupported_encoding);
+  stat.add("bad images", c.bad_image);
+  stat.add("frames without camera_info", c.no_camera_info);
+  stat.add("frames with invalid camera_info", c.bad_camera_info_frames);
+  stat.add("invalid camera_info messages", c.bad_camera_info_msgs);
+  stat.add("image/camera_info size mismatches", c.size_mismatch);
+  stat.add("time jumps back", c.time_jumps);
+  stat.add("tf predictions used", tf_predictions_);
+  stat.add("debug images built", debug_images_);
+  stat.add("latency stamp to publish last (ms)", latency_ms_.last);
+  stat.add("latency stamp to publish max (ms)", latency_ms_.max);
+  stat.add("processing time last (ms)", processing_ms_.last);
+  stat.add("processing time mean (ms)", processing_ms_.mean());
+  stat.add("processing time max (ms)", processing_ms_.max);
+}
+
+}  // namespace cone_tracker
+
+PLUGINLIB_EXPORT_CLASS(cone_tracker::ConeTrackerNodelet, nodelet::Nodelet)

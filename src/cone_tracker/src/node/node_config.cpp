@@ -1,0 +1,109 @@
+#include "cone_tracker/node/node_config.h"
+
+#include <ros/node_handle.h>
+
+#include <stdexcept>
+
+namespace cone_tracker {
+namespace {
+
+constexpr double kDegToRad = M_PI / 180.0;
+
+template <typename T>
+void Get(const ros::NodeHandle& nh, const std::string& name, T* value) {
+  if (!nh.hasParam(name)) return;  // absent: the struct's default stays
+  if (!nh.getParam(name, *value)) throw std::invalid_argument("parameter ~" + name + " has the wrong type");
+}
+
+// Doubles also accept integers written without a decimal point.
+void Get(const ros::NodeHandle& nh, const std::string& name, double* value) {
+  if (!nh.hasParam(name)) return;
+  XmlRpc::XmlRpcValue v;
+  nh.getParam(name, v);
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) {
+    *value = static_cast<double>(v);
+  } else if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) {
+    *value = static_cast<int>(v);
+  } else if (v.getType() == XmlRpc::XmlRpcValue::TypeString && (std::string(v) == "nan" || std::string(v).empty())) {
+    *value = NAN;
+  } else {
+    throw std::invalid_argument("parameter ~" + name + " must be a number");
+  }
+}
+
+void Check(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument("parameter ~" + what);
+}
+
+}  // namespace
+
+void ValidateConfig(const NodeConfig& c) {
+  Check(!c.fixed_frame.empty(), "fixed_frame must not be empty");
+  Check(!c.camera_frame.empty(), "camera_frame must not be empty");
+  Check(c.prediction_max_age_s >= 0.0, "prediction_max_age_s must be >= 0");
+  Check(std::isnan(c.heading_prior_deg) || std::isfinite(c.heading_prior_deg),
+        "heading_prior_deg must be finite or nan");
+  Check(c.expected_rate_hz > 0.0, "expected_rate_hz must be > 0");
+  Check(c.rate_tolerance >= 0.0 && c.rate_tolerance < 1.0, "rate_tolerance must be in [0, 1)");
+  const std::string seg = c.segmenter.Validate();
+  Check(seg.empty(), seg);
+  const std::string pose = c.pose.Validate();
+  Check(pose.empty(), pose);
+}
+
+NodeConfig LoadConfig(const ros::NodeHandle& nh) {
+  NodeConfig c;
+  Get(nh, "layout_file", &c.layout_file);
+  Get(nh, "fixed_frame", &c.fixed_frame);
+  Get(nh, "camera_frame", &c.camera_frame);
+  Get(nh, "use_tf_prediction", &c.use_tf_prediction);
+  Get(nh, "prediction_max_age_s", &c.prediction_max_age_s);
+  Get(nh, "heading_prior_deg", &c.heading_prior_deg);
+  Get(nh, "expected_rate_hz", &c.expected_rate_hz);
+  Get(nh, "rate_tolerance", &c.rate_tolerance);
+
+  SegmenterConfig& s = c.segmenter;
+  double hue_min_deg = s.hsi.hue_min_rad / kDegToRad, hue_max_deg = s.hsi.hue_max_rad / kDegToRad;
+  Get(nh, "hue_min_deg", &hue_min_deg);
+  Get(nh, "hue_max_deg", &hue_max_deg);
+  s.hsi.hue_min_rad = hue_min_deg * kDegToRad;
+  s.hsi.hue_max_rad = hue_max_deg * kDegToRad;
+  Get(nh, "sat_min", &s.hsi.sat_min);
+  Get(nh, "sat_max", &s.hsi.sat_max);
+  Get(nh, "val_min", &s.hsi.val_min);
+  Get(nh, "val_max", &s.hsi.val_max);
+  Get(nh, "pyramid_levels", &s.pyramid_levels);
+  Get(nh, "roi_margin_px", &s.roi_margin_px);
+  Get(nh, "min_fragment_area_px", &s.min_fragment_area_px);
+  Get(nh, "merge_lateral_frac", &s.merge_lateral_frac);
+  Get(nh, "merge_gap_frac", &s.merge_gap_frac);
+  Get(nh, "min_area_px", &s.min_area_px);
+  Get(nh, "max_area_px", &s.max_area_px);
+  Get(nh, "border_px", &s.border_px);
+  Get(nh, "min_solidity", &s.min_solidity);
+  Get(nh, "max_solidity", &s.max_solidity);
+  Get(nh, "min_axis_ratio", &s.min_axis_ratio);
+  Get(nh, "max_axis_ratio", &s.max_axis_ratio);
+  Get(nh, "max_tilt_deg", &s.max_tilt_deg);
+  Get(nh, "line_search_misses", &s.line_search_misses);
+
+  ConePoseConfig& p = c.pose;
+  Get(nh, "sigma_px", &p.sigma_px);
+  Get(nh, "max_assignment_px", &p.max_assignment_px);
+  Get(nh, "chi2_probability", &p.chi2_probability);
+  Get(nh, "max_translation_change_m", &p.max_translation_change_m);
+  Get(nh, "max_rotation_change_deg", &p.max_rotation_change_deg);
+  p.initial_heading_rad = c.heading_prior_deg * kDegToRad;
+
+  Get(nh, "debug_tint_mask", &c.debug.tint_mask);
+  Get(nh, "debug_draw_rejected", &c.debug.draw_rejected);
+  Get(nh, "debug_draw_text", &c.debug.draw_text);
+
+  Check(!c.layout_file.empty(),
+        "layout_file is required (a layout YAML in rig_sim's schema, e.g. "
+        "$(find rig_sim)/config/layouts/default.yaml)");
+  ValidateConfig(c);
+  return c;
+}
+
+}  // namespace cone_tracker

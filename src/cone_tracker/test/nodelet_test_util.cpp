@@ -1,0 +1,96 @@
+#include "nodelet_test_util.h"
+
+#include <cmath>
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <dynamic_reconfigure/Reconfigure.h>
+#include <geometry_msgs/PoseWithCovarianceStamped.h>
+#include <sensor_msgs/Image.h>
+
+namespace cone_tracker {
+
+bool SpinUntil(const std::function<bool()>& done, double timeout_s) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
+  while (ros::ok() && ros::WallTime::now() < end) {
+    ros::spinOnce();
+    if (done()) return true;
+    ros::WallDuration(0.002).sleep();
+  }
+  return done();
+}
+
+sensor_msgs::CameraInfo CameraInfo(const rig_sim::CameraConfig& c) {
+  sensor_msgs::CameraInfo info;
+  info.header.frame_id = "camera_optical";
+  info.width = uint32_t(c.width_px), info.height = uint32_t(c.height_px);
+  info.distortion_model = "plumb_bob";
+  info.D = {c.k1, c.k2, c.p1, c.p2, c.k3};
+  info.K = {c.fu_px, 0, c.cu_px, 0, c.fv_px, c.cv_px, 0, 0, 1};
+  info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  info.P = {c.fu_px, 0, c.cu_px, 0, 0, c.fv_px, c.cv_px, 0, 0, 0, 1, 0};
+  return info;
+}
+
+double TrackerStatus::Value(const std::string& key) const {
+  const auto it = values.find(key);
+  return it == values.end() ? NAN : std::stod(it->second);
+}
+
+NodeletRig::NodeletRig() {
+  image_pub = nh.advertise<sensor_msgs::Image>("camera/image_raw", 5);
+  info_pub = nh.advertise<sensor_msgs::CameraInfo>("camera/camera_info", 1, /*latch=*/true);
+  diag_sub_ = nh.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 50, [this](const auto& m) {
+    for (const auto& s : m->status) {
+      if (s.name != "cone_tracker: tracker") continue;
+      status = TrackerStatus();
+      status.level = s.level, status.message = s.message;
+      for (const auto& kv : s.values) status.values[kv.key] = kv.value;
+    }
+  });
+  pose_sub_ = nh.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
+      "cone_tracker/pose", 50, [this](const auto& m) { pose_stamps.insert(m->header.stamp.toNSec()); });
+}
+
+bool NodeletRig::Connect() {
+  return SpinUntil(
+      [&] {
+        return image_pub.getNumSubscribers() > 0 && info_pub.getNumSubscribers() > 0 &&
+               diag_sub_.getNumPublishers() > 0;
+      },
+      60.0);
+}
+
+void NodeletRig::PublishInfo(const sensor_msgs::CameraInfo& info) {
+  info_pub.publish(info);
+  SpinUntil([] { return false; }, 0.5);  // delivered before the next frame (another connection)
+}
+
+bool NodeletRig::WaitForFrames(double frames) {
+  status = TrackerStatus();
+  return SpinUntil([&] { return status.Value("frames") >= frames; }, 30.0);
+}
+
+bool NodeletRig::SettleAndCheckPose(const ros::Time& stamp) {
+  SpinUntil([] { return false; }, 0.3);
+  return pose_stamps.count(stamp.toNSec()) > 0;
+}
+
+bool NodeletRig::Reconfigure(const std::vector<std::pair<std::string, double>>& doubles) {
+  dynamic_reconfigure::Reconfigure srv;
+  for (const auto& [name, value] : doubles) {
+    dynamic_reconfigure::DoubleParameter p;
+    p.name = name, p.value = value;
+    srv.request.config.doubles.push_back(p);
+  }
+  if (!ros::service::waitForService("cone_tracker/set_parameters", ros::Duration(10.0))) return false;
+  if (!ros::service::call("cone_tracker/set_parameters", srv)) return false;
+  for (const auto& [name, value] : doubles) {
+    bool found = false;
+    for (const auto& p : srv.response.config.doubles)
+      found = found || (p.name == name && std::abs(p.value - value) < 1e-9);
+    if (!found) return false;
+  }
+  return true;
+}
+
+}  // namespace cone_tracker

@@ -1,0 +1,98 @@
+// The layout file: rig_sim's schema, limits, and clear messages on typos.
+#include <gtest/gtest.h>
+
+#include <glob.h>
+
+#include "cone_tracker/node/layout.h"
+
+namespace cone_tracker {
+namespace {
+
+std::string ParseError(const std::string& text) {
+  std::vector<ConeModel> cones;
+  std::string error;
+  EXPECT_FALSE(ParseLayout(text, "test.yaml", &cones, &error)) << text;
+  return error;
+}
+
+}  // namespace
+
+TEST(Layout, EveryRigSimLayoutLoads) {
+  glob_t g;
+  ASSERT_EQ(glob(RIG_SIM_LAYOUTS_DIR "/*.yaml", 0, nullptr, &g), 0);
+  ASSERT_GE(g.gl_pathc, 4u);
+  for (size_t i = 0; i < g.gl_pathc; ++i) {
+    std::vector<ConeModel> cones;
+    std::string error;
+    EXPECT_TRUE(LoadLayoutFile(g.gl_pathv[i], &cones, &error)) << error;
+    EXPECT_GE(cones.size(), 3u) << g.gl_pathv[i];
+  }
+  globfree(&g);
+}
+
+TEST(Layout, EquilateralMatchesRigSim) {
+  std::vector<ConeModel> cones;
+  std::string error;
+  ASSERT_TRUE(LoadLayoutFile(RIG_SIM_LAYOUTS_DIR "/default.yaml", &cones, &error)) << error;
+  ASSERT_EQ(cones.size(), 3u);
+  const double r = 1.5 / std::sqrt(3.0);
+  EXPECT_NEAR(cones[0].base_m.x(), r, 1e-12);  // cone 1 on +x
+  EXPECT_NEAR(cones[0].base_m.y(), 0.0, 1e-12);
+  EXPECT_NEAR(cones[1].base_m.x(), -0.5 * r, 1e-12);
+  EXPECT_NEAR(cones[1].base_m.y(), r * std::sqrt(3.0) / 2.0, 1e-12);
+  EXPECT_NEAR((cones[1].base_m - cones[2].base_m).norm(), 1.5, 1e-12);
+  EXPECT_DOUBLE_EQ(cones[2].height_m, 0.71);
+  EXPECT_DOUBLE_EQ(cones[2].tau, 1.0 / 7.0);
+  EXPECT_TRUE(LayoutHasRotationalSymmetry(cones));
+}
+
+TEST(Layout, ExplicitConesWithStackedCone) {
+  std::vector<ConeModel> cones;
+  std::string error;
+  ASSERT_TRUE(LoadLayoutFile(RIG_SIM_LAYOUTS_DIR "/stacked.yaml", &cones, &error)) << error;
+  ASSERT_EQ(cones.size(), 4u);
+  EXPECT_DOUBLE_EQ(cones[3].base_m.z(), 0.12);
+  EXPECT_DOUBLE_EQ(cones[1].height_m, 0.46);
+  EXPECT_FALSE(LayoutHasRotationalSymmetry(cones));
+}
+
+TEST(Layout, ErrorsNameTheField) {
+  EXPECT_NE(ParseError("cones:\n  - {x_m: 1.0, y_m: oops, height_m: 0.7}\n  - {x_m: 2}\n  - {x_m: 3}\n")
+                .find("cones[0].y_m must be a number"),
+            std::string::npos);
+  EXPECT_NE(ParseError("cones:\n  - {x_m: 1}\n  - {x_m: 2}\n").find("2 cones; 3 to 8"), std::string::npos);
+  std::string nine = "cones:\n";
+  for (int i = 0; i < 9; ++i) nine += "  - {x_m: " + std::to_string(i) + "}\n";
+  EXPECT_NE(ParseError(nine).find("9 cones"), std::string::npos);
+  EXPECT_NE(ParseError("equilateral: {side_m: 1.5, height_m: 1.2}\n").find("height_m 1.2 is outside"),
+            std::string::npos);
+  EXPECT_NE(ParseError("equilateral: {side_m: 1.5, height_m: 0.05}\n").find("outside [0.1, 0.91]"), std::string::npos);
+  EXPECT_NE(ParseError("equilateral: {side_m: 1.5, style: stripy}\n").find("equilateral.style"), std::string::npos);
+  EXPECT_NE(ParseError("cone:\n  - {x_m: 1}\n").find("no cones"), std::string::npos);
+  EXPECT_NE(ParseError("cones: [1, 2, 3]\n").find("cones[0] must be a mapping"), std::string::npos);
+  EXPECT_NE(ParseError("cones: {x_m: 1}\n").find("cones must be a list"), std::string::npos);
+  EXPECT_NE(ParseError("equilateral: {side_m: 1.5\n").find("not valid YAML"), std::string::npos);
+  EXPECT_NE(ParseError("cones:\n  - {x_m: 1}\n  - {x_m: 1}\n  - {x_m: 3}\n").find("identical"), std::string::npos);
+  EXPECT_NE(ParseError("- 1\n- 2\n").find("mapping"), std::string::npos);
+  EXPECT_NE(ParseError("equilateral: {side_m: .nan}\n").find("finite"), std::string::npos);
+
+  std::vector<ConeModel> cones;
+  std::string error;
+  EXPECT_FALSE(LoadLayoutFile("/nonexistent/layout.yaml", &cones, &error));
+  EXPECT_NE(error.find("/nonexistent/layout.yaml"), std::string::npos);
+  EXPECT_TRUE(cones.empty());  // untouched on error
+}
+
+TEST(Layout, LimitsAreInclusive) {
+  std::vector<ConeModel> cones;
+  std::string error;
+  EXPECT_TRUE(ParseLayout("cones:\n  - {x_m: 1, height_m: 0.10}\n  - {x_m: 2, height_m: 0.91}\n  - {x_m: 3}\n", "t",
+                          &cones, &error))
+      << error;
+  std::string eight = "cones:\n";
+  for (int i = 0; i < 8; ++i) eight += "  - {x_m: " + std::to_string(i) + ", y_m: -5.0}\n";
+  EXPECT_TRUE(ParseLayout(eight, "t", &cones, &error)) << error;
+  EXPECT_EQ(cones.size(), 8u);
+}
+
+}  // namespace cone_tracker

@@ -1,0 +1,262 @@
+// Bad input to the nodelet in a manager: each case must leave the nodelet
+// running, show up clearly in /diagnostics and publish no pose. Frames come
+// from rig_sim's renderer (512x384, the default lens). Between the cases a good
+// frame checks that poses still come out, so "no pose" is not vacuous. Also:
+// dynamic_reconfigure takes effect, the debug image is built only while
+// someone subscribes.
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <dynamic_reconfigure/Reconfigure.h>
+#include <sensor_msgs/Image.h>
+#include <tf2_msgs/TFMessage.h>
+#include <Eigen/Geometry>
+
+#include "../bench/vision_frames.h"
+#include "cone_tracker/ConeDetections.h"
+#include "nodelet_test_util.h"
+
+namespace cone_tracker {
+namespace {
+
+const rig_sim::CameraConfig kCamera = rig_sim::CameraConfig().Scaled(0.5);
+const Eigen::Vector3d kEye(3.4, 0.6, 1.4), kTarget(0.0, 0.0, 0.3);
+
+sensor_msgs::ImagePtr Frame(const rig_sim::Scene& scene, const rig_sim::TruePose& pose) {
+  const SimFrame f = RenderSim(scene, pose, kCamera, 2.0);
+  auto img = boost::make_shared<sensor_msgs::Image>();
+  img->width = uint32_t(kCamera.width_px), img->height = uint32_t(kCamera.height_px);
+  img->encoding = "rgb8", img->step = img->width * 3;
+  img->data = f.rgb;
+  return img;
+}
+
+class BadInput : public testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(rig_.Connect()) << "the nodelet did not subscribe";
+    rig_.PublishInfo(CameraInfo(kCamera));
+  }
+  // Publishes the image (stamped now) and waits for the diagnostics of that frame.
+  const TrackerStatus& Send(const sensor_msgs::ImagePtr& img, const ros::Time& stamp = ros::Time()) {
+    img->header.stamp = stamp.isZero() ? ros::Time::now() : stamp;
+    img->header.frame_id = "camera_optical";
+    stamp_ = img->header.stamp;
+    ++frames_;
+    rig_.image_pub.publish(img);
+    EXPECT_TRUE(rig_.WaitForFrames(frames_)) << "no diagnostics for frame " << frames_;
+    return rig_.status;
+  }
+  bool PosePublished() { return rig_.SettleAndCheckPose(stamp_); }
+  void ExpectGoodFrameGivesPose() {
+    const TrackerStatus& s = Send(Frame(rig_sim::DefaultScene(), LookAt(kEye, kTarget)));
+    EXPECT_EQ(s.level, diagnostic_msgs::DiagnosticStatus::OK) << s.message;
+    EXPECT_TRUE(PosePublished()) << s.message;
+  }
+  void ExpectNoPose(const TrackerStatus& s, const std::string& counter, const std::string& text) {
+    EXPECT_NE(s.level, diagnostic_msgs::DiagnosticStatus::OK);
+    EXPECT_GE(s.Value(counter), 1.0) << counter;
+    EXPECT_NE(s.message.find(text), std::string::npos) << "'" << s.message << "' should mention '" << text << "'";
+    EXPECT_FALSE(PosePublished()) << s.message;
+  }
+
+  NodeletRig rig_;
+  ros::Time stamp_;
+  static int frames_;  // the nodelet counts frames over all the tests of this process
+};
+int BadInput::frames_ = 0;
+
+TEST_F(BadInput, EachCaseGivesADiagnosticAndNoPose) {
+  ExpectGoodFrameGivesPose();
+
+  auto empty = boost::make_shared<sensor_msgs::Image>();
+  empty->encoding = "rgb8";
+  ExpectNoPose(Send(empty), "bad images", "image is 0x0 px");
+
+  auto one = boost::make_shared<sensor_msgs::Image>();
+  one->width = one->height = 1, one->encoding = "rgb8", one->step = 3, one->data = {255, 100, 0};
+  ExpectNoPose(Send(one), "bad images", "image is 1x1 px");
+
+  auto mono = boost::make_shared<sensor_msgs::Image>();
+  mono->width = uint32_t(kCamera.width_px), mono->height = uint32_t(kCamera.height_px), mono->encoding = "mono8";
+  mono->step = mono->width, mono->data.assign(size_t(mono->step) * mono->height, 128);
+  ExpectNoPose(Send(mono), "unsupported encoding frames", "'mono8' is not supported");
+
+  ExpectNoPose(Send(Frame(rig_sim::DefaultScene(), LookAt(kEye, Eigen::Vector3d(9.0, 9.0, 0.0)))),
+               "frames with no cones", "no cones found");
+
+  for (size_t n : {1u, 2u}) {
+    rig_sim::Scene scene = rig_sim::DefaultScene();
+    scene.cones.resize(n);
+    ExpectNoPose(Send(Frame(scene, LookAt(kEye, kTarget))), "frames with too few cones",
+                 std::to_string(n) + " cone(s) found");
+  }
+
+  // Five orange things that are not cones, where the cones would stand.
+  rig_sim::Scene clutter;
+  clutter.cones.clear();
+  clutter.boxes.push_back({Eigen::Vector3d(0.8, 0.0, 0.2), 0.3, Eigen::Vector3d(0.4, 0.3, 0.4), {0.85, 0.18, 0.02}});
+  clutter.boxes.push_back({Eigen::Vector3d(-0.4, 0.8, 0.4), 0.0, Eigen::Vector3d(0.3, 0.3, 0.8), {0.85, 0.18, 0.02}});
+  clutter.boxes.push_back({Eigen::Vector3d(-0.5, -0.7, 0.15), 0.8, Eigen::Vector3d(0.6, 0.4, 0.3), {0.9, 0.3, 0.02}});
+  clutter.patches.push_back({Eigen::Vector2d(1.5, 0.9), 0.2, Eigen::Vector2d(0.5, 0.5), {0.85, 0.18, 0.02}});
+  clutter.people.push_back({Eigen::Vector2d(-1.2, -0.1), 1.75, 0.22});
+  const TrackerStatus& s = Send(Frame(clutter, LookAt(kEye, kTarget)));
+  EXPECT_FALSE(PosePublished()) << s.message;
+  EXPECT_NE(s.level, diagnostic_msgs::DiagnosticStatus::OK);
+  EXPECT_NE(s.message.find("no pose"), std::string::npos) << s.message;
+
+  ExpectGoodFrameGivesPose();
+}
+
+TEST_F(BadInput, ConeCutByTheBorder) {
+  // Turn the camera until the axis of the leftmost cone is on the image's left edge.
+  const rig_sim::Scene scene = rig_sim::DefaultScene();
+  const Eigen::Vector3d right = (kTarget - kEye).cross(Eigen::Vector3d::UnitZ()).normalized();
+  const rig_sim::CameraModel camera(kCamera);
+  for (double shift = 0.0; shift < 4.0; shift += 0.01) {
+    const rig_sim::TruePose pose = LookAt(kEye, kTarget + shift * right);  // turning right moves the cones left
+    double min_u = 1e9, second_u = 1e9;
+    for (const rig_sim::ConeSpec& c : scene.cones) {
+      Eigen::Vector2d uv;
+      if (!camera.Project(pose.R_cones_camera.transpose() * (c.peak_m() - pose.p_camera_in_cones_m), &uv)) continue;
+      if (uv.x() < min_u)
+        second_u = min_u, min_u = uv.x();
+      else
+        second_u = std::min(second_u, uv.x());
+    }
+    if (min_u > 1.0) continue;
+    ASSERT_GT(second_u, 20.0) << "two cones at the border";
+    ExpectNoPose(Send(Frame(scene, pose)), "blobs rejected by gate border", "cone(s) found");
+    ExpectGoodFrameGivesPose();
+    return;
+  }
+  FAIL() << "no view with a cone on the border";
+}
+
+TEST_F(BadInput, NanInCameraInfo) {
+  sensor_msgs::CameraInfo bad = CameraInfo(kCamera);
+  bad.K[0] = std::nan("");
+  rig_.PublishInfo(bad);
+  const TrackerStatus& s = Send(Frame(rig_sim::DefaultScene(), LookAt(kEye, kTarget)));
+  EXPECT_EQ(s.level, diagnostic_msgs::DiagnosticStatus::ERROR);
+  EXPECT_NE(s.message.find("NaN"), std::string::npos) << s.message;
+  EXPECT_GE(s.Value("frames with invalid camera_info"), 1.0);
+  EXPECT_FALSE(PosePublished());
+  rig_.PublishInfo(CameraInfo(kCamera));  // a valid one: tracking resumes
+  ExpectGoodFrameGivesPose();
+}
+
+TEST_F(BadInput, ReconfigureTakesEffect) {
+  ExpectGoodFrameGivesPose();
+  ASSERT_TRUE(rig_.Reconfigure({{"hue_min_deg", 180.0}, {"hue_max_deg", 250.0}}));  // blue: no cone pixels
+  ExpectNoPose(Send(Frame(rig_sim::DefaultScene(), LookAt(kEye, kTarget))), "frames with no cones", "no cones found");
+  ASSERT_TRUE(rig_.Reconfigure({{"hue_min_deg", 0.0}, {"hue_max_deg", 40.107}}));
+  ExpectGoodFrameGivesPose();
+}
+
+TEST_F(BadInput, DebugImageOnlyWhileSubscribed) {
+  ExpectGoodFrameGivesPose();
+  EXPECT_EQ(rig_.status.Value("debug images built"), 0.0);
+  sensor_msgs::ImageConstPtr debug;
+  ros::Subscriber sub = rig_.nh.subscribe<sensor_msgs::Image>("cone_tracker/debug_image", 1,
+                                                              [&](const sensor_msgs::ImageConstPtr& m) { debug = m; });
+  ASSERT_TRUE(SpinUntil([&] { return sub.getNumPublishers() > 0; }, 10.0));
+  ExpectGoodFrameGivesPose();
+  ASSERT_TRUE(SpinUntil([&] { return bool(debug); }, 10.0)) << "no debug image while subscribed";
+  EXPECT_EQ(debug->width, uint32_t(kCamera.width_px));
+  EXPECT_EQ(debug->encoding, "bgr8");
+  EXPECT_GE(rig_.status.Value("debug images built"), 1.0);
+}
+
+// The prediction comes from tf (pose_ekf's cones -> camera_optical) when it
+// reaches the image stamp, and the motion gate (6.4.2) rejects a pose too far
+// from it.
+TEST_F(BadInput, TfPredictionAndMotionGate) {
+  std::map<uint64_t, ConeDetections::ConstPtr> detections;
+  ros::Subscriber sub = rig_.nh.subscribe<ConeDetections>(
+      "cone_tracker/detections", 10,
+      [&](const ConeDetections::ConstPtr& m) { detections[m->header.stamp.toNSec()] = m; });
+  ASSERT_TRUE(SpinUntil([&] { return sub.getNumPublishers() > 0; }, 10.0));
+  // A plain publisher, to wait for the nodelet's tf listener before sending (a fresh broadcaster
+  // would drop the first transform while connecting).
+  ros::Publisher tf_pub = rig_.nh.advertise<tf2_msgs::TFMessage>("/tf", 10);
+  ASSERT_TRUE(SpinUntil([&] { return tf_pub.getNumSubscribers() > 0; }, 10.0));
+  const rig_sim::TruePose truth = LookAt(kEye, kTarget);
+  const rig_sim::Scene scene = rig_sim::DefaultScene();
+  // One frame with pose_ekf's estimate at its stamp, offset by dp_m from the truth.
+  auto frame_with_tf = [&](const Eigen::Vector3d& dp_m) -> ConeDetections::ConstPtr {
+    const ros::Time stamp = ros::Time::now();
+    geometry_msgs::TransformStamped t;
+    t.header.stamp = stamp, t.header.frame_id = "cones", t.child_frame_id = "camera_optical";
+    const Eigen::Quaterniond q(truth.R_cones_camera);
+    t.transform.rotation.w = q.w(), t.transform.rotation.x = q.x(), t.transform.rotation.y = q.y();
+    t.transform.rotation.z = q.z();
+    const Eigen::Vector3d p = truth.p_camera_in_cones_m + dp_m;
+    t.transform.translation.x = p.x(), t.transform.translation.y = p.y(), t.transform.translation.z = p.z();
+    tf2_msgs::TFMessage msg;
+    msg.transforms.push_back(t);
+    tf_pub.publish(msg);
+    SpinUntil([] { return false; }, 0.3);  // into the nodelet's tf buffer
+    Send(Frame(scene, truth), stamp);
+    SpinUntil([&] { return detections.count(stamp.toNSec()) > 0; }, 5.0);
+    return detections.count(stamp.toNSec()) ? detections[stamp.toNSec()] : nullptr;
+  };
+
+  ConeDetections::ConstPtr d = frame_with_tf(Eigen::Vector3d::Zero());
+  ASSERT_TRUE(d);
+  EXPECT_EQ(d->prediction_source, "tf");
+  EXPECT_TRUE(d->pose_published) << d->status;
+  EXPECT_TRUE(PosePublished());
+  EXPECT_TRUE(d->motion_checked);
+  EXPECT_TRUE(d->motion_passed);
+  EXPECT_LT(d->translation_change_m, 0.1);
+  EXPECT_TRUE(d->chi2_passed);
+  EXPECT_EQ(d->chi2_dof, 12);  // 3 cones x 3 points x 2 - 6
+  EXPECT_GT(d->chi2_cdf, 0.0);
+  EXPECT_LT(d->chi2_cdf, 0.999);
+  EXPECT_EQ(d->accepted_count, 3);
+  // Each accepted blob carries the id of the cone whose peak projects onto it (the tf prediction fixes
+  // the 120-degree ambiguity).
+  const rig_sim::CameraModel camera(kCamera);
+  std::set<int> ids;
+  for (int i = 0; i < d->accepted_count; ++i) {
+    const DetectedCone& c = d->detections[size_t(i)];
+    ids.insert(c.cone_id);
+    ASSERT_GE(c.cone_id, 0);
+    Eigen::Vector2d uv;
+    ASSERT_TRUE(camera.Project(
+        truth.R_cones_camera.transpose() * (scene.cones[size_t(c.cone_id)].peak_m() - truth.p_camera_in_cones_m), &uv));
+    EXPECT_LT((uv - Eigen::Vector2d(c.peak_px[0], c.peak_px[1])).norm(), 6.0) << "cone " << c.cone_id;
+    EXPECT_TRUE(c.failed_gate_names.empty());
+    EXPECT_GT(c.area_px, 30.0);
+  }
+  EXPECT_EQ(ids, (std::set<int>{0, 1, 2}));
+  EXPECT_GE(rig_.status.Value("tf predictions used"), 1.0);
+
+  // pose_ekf 0.3 m off along the line of sight (the cones still match within max_assignment_px).
+  ASSERT_TRUE(rig_.Reconfigure({{"max_translation_change_m", 0.2}}));
+  const Eigen::Vector3d forward = truth.R_cones_camera.col(2);
+  d = frame_with_tf(0.3 * forward);
+  ASSERT_TRUE(d);
+  EXPECT_EQ(d->prediction_source, "tf");
+  EXPECT_FALSE(d->pose_published);
+  EXPECT_TRUE(d->motion_checked);
+  EXPECT_FALSE(d->motion_passed);
+  EXPECT_NEAR(d->translation_change_m, 0.3, 0.1);
+  EXPECT_EQ(d->pose_rejected_by_names, std::vector<std::string>{"motion"});
+  EXPECT_NE(rig_.status.message.find("motion gate"), std::string::npos) << rig_.status.message;
+  EXPECT_GE(rig_.status.Value("rejected by motion gate"), 1.0);
+  EXPECT_FALSE(PosePublished());
+  ASSERT_TRUE(rig_.Reconfigure({{"max_translation_change_m", 0.5}}));
+}
+
+}  // namespace
+}  // namespace cone_tracker
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "cone_tracker_bad_input_test");
+  ros::NodeHandle nh;
+  return RUN_ALL_TESTS();
+}

@@ -1,0 +1,94 @@
+// The nodelet in a manager (launch/cone_tracker.launch), fed the sample bag in
+// lockstep: each frame is published only after the previous frame's
+// cone_tracker/detections came back, so no frame is dropped and the run does
+// not depend on machine load. Checks the poses against rig_sim/ground_truth.
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+
+#include <cstdio>
+
+#include <visualization_msgs/MarkerArray.h>
+
+#include "bag_replay.h"
+#include "cone_tracker/ConeDetections.h"
+#include "cone_tracker/node/layout.h"
+#include "handheld_limits.h"
+
+namespace cone_tracker {
+namespace {
+
+struct Listener {
+  std::map<uint64_t, geometry_msgs::PoseWithCovarianceStamped> poses;
+  std::map<uint64_t, ConeDetections> detections;
+  visualization_msgs::MarkerArrayConstPtr markers;
+  std::vector<ros::Subscriber> subs;
+  explicit Listener(ros::NodeHandle& nh) {
+    subs.push_back(nh.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
+        "cone_tracker/pose", 100, [this](const auto& m) { poses[m->header.stamp.toNSec()] = *m; }));
+    subs.push_back(nh.subscribe<ConeDetections>("cone_tracker/detections", 100,
+                                                [this](const auto& m) { detections[m->header.stamp.toNSec()] = *m; }));
+    subs.push_back(
+        nh.subscribe<visualization_msgs::MarkerArray>("cone_tracker/cones", 1, [this](const auto& m) { markers = m; }));
+  }
+};
+
+bool SpinUntil(const std::function<bool()>& done, double timeout_s) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
+  while (ros::ok() && ros::WallTime::now() < end) {
+    ros::spinOnce();
+    if (done()) return true;
+    ros::WallDuration(0.002).sleep();
+  }
+  return done();
+}
+
+}  // namespace
+
+TEST(NodeletReplay, HandheldSampleInLockstep) {
+  std::vector<ConeModel> layout;
+  std::string error;
+  ASSERT_TRUE(LoadLayoutFile(RIG_SIM_LAYOUTS_DIR "/default.yaml", &layout, &error)) << error;
+  const std::vector<BagFrame> frames = ReadBag(CONE_TRACKER_ROSBAGS_DIR "/handheld_sample.bag", layout, 6.0);
+  ASSERT_EQ(frames.size(), 240u);
+
+  ros::NodeHandle nh;
+  Listener listener(nh);
+  ros::Publisher image_pub = nh.advertise<sensor_msgs::Image>("camera/image_raw", 1);
+  ros::Publisher info_pub = nh.advertise<sensor_msgs::CameraInfo>("camera/camera_info", 1, /*latch=*/true);
+  ASSERT_TRUE(SpinUntil([&] { return image_pub.getNumSubscribers() > 0 && info_pub.getNumSubscribers() > 0; }, 60.0))
+      << "the nodelet did not subscribe to camera/image_raw and camera/camera_info";
+  info_pub.publish(frames.front().info);
+  ros::WallDuration(0.5).sleep();  // the latched camera_info reaches the nodelet before the first frame
+
+  int lost = 0;
+  for (const BagFrame& f : frames) {
+    const uint64_t stamp = f.image->header.stamp.toNSec();
+    image_pub.publish(f.image);
+    if (!SpinUntil([&] { return listener.detections.count(stamp) > 0; }, 10.0)) ++lost;
+  }
+  SpinUntil([] { return false; }, 0.3);  // the last pose may trail its detections
+  EXPECT_EQ(lost, 0) << "frames without cone_tracker/detections";
+
+  const Accuracy a = Evaluate(frames, listener.poses);
+  std::printf("ACCURACY nodelet replay handheld_sample: %s\n", a.Summary().c_str());
+  ExpectHandheldSampleAccuracy(a);  // the adapter replay's limits: the nodelet adds wiring only
+  for (const auto& [stamp, d] : listener.detections) {
+    EXPECT_EQ(d.pose_published, listener.poses.count(stamp) > 0) << d.status;
+    for (const auto& c : d.detections) EXPECT_LT(c.cone_id, int(layout.size()));
+  }
+  for (const auto& [stamp, p] : listener.poses) EXPECT_EQ(p.header.frame_id, "cones");
+
+  ASSERT_TRUE(listener.markers) << "no latched cone_tracker/cones";
+  int cones = 0;
+  for (const auto& m : listener.markers->markers) cones += m.ns == "cone_tracker/layout";
+  EXPECT_EQ(cones, 3);
+}
+
+}  // namespace cone_tracker
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "cone_tracker_nodelet_replay_test");
+  ros::NodeHandle nh;
+  return RUN_ALL_TESTS();
+}
