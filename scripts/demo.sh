@@ -2,14 +2,14 @@
 # `make demo`: replays the bundled sample bag through the whole pipeline (launch/demo.launch: the
 # nodelets in one manager, rviz, the outputs recorded), headless under Xvfb, then writes the report,
 # the overlay video and the rviz screenshot to OUT_DIR (default out/); then the same, without rviz,
-# for a second bag with the cones out of view for a while, into OUT_DIR/<its name>/.
+# for a simulated run with the cones out of view for a while, into OUT_DIR/look_away/
+# (DEMO_OUTAGE=0 skips it).
 # Usage: scripts/demo.sh [OUT_DIR] [BAG]   (needs a built, sourced workspace: `make demo` does both)
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 OUT="$(realpath -m "${1:-$ROOT/out}")"
 BAG="$(realpath "${2:-$ROOT/rosbags/handheld_sample.bag}")"
 LIB="$ROOT/catkin_ws/devel/lib"
-SECOND_BAG="${DEMO_SECOND_BAG-$ROOT/rosbags/look_away_sample.bag}"  # an outage and the recovery; "" skips it
 SCREENSHOT_AT_S="${DEMO_SCREENSHOT_AT_S:-6.0}"  # sim seconds into the bag
 mkdir -p "$OUT"
 
@@ -32,32 +32,24 @@ with rosbag.Bag(sys.argv[1]) as bag:
 PY
 }
 
-# replay BAG DIR RVIZ: launch/demo.launch on BAG under Xvfb, outputs recorded to DIR/demo_run.bag,
-# with RVIZ=true a screenshot DIR/rviz.png; then the report DIR/report.md with plots and video.
+# replay INPUT DIR RVIZ LAYOUT HEADING: launch/demo.launch on the uncompressed bag INPUT under Xvfb,
+# outputs recorded to DIR/demo_run.bag, with RVIZ=true a screenshot DIR/rviz.png; then the report
+# DIR/report.md with plots and video. INPUT is deleted afterwards.
 replay() {
-  local bag="$1" dir="$2" rviz="$3"
-  mkdir -p "$dir"
+  local input="$1" dir="$2" rviz="$3" layout="$4" heading="$5" name="$6"
+  local config="$dir/.demo.rviz"
   rm -f "$dir/demo_run.bag" "$dir/rviz.png"
-  # The sample bags are bz2-compressed to keep the repository small. rosbag play cannot decompress
-  # them at the camera rate on a loaded 2-core machine: it falls behind, publishes everything at
-  # once and never advances /clock. So the demo replays an uncompressed copy.
-  local input="$dir/.replay_input.bag" config="$dir/.demo.rviz"
-  cp "$bag" "$input"
-  rosbag decompress -q "$input" >/dev/null
-  rm -f "${input%.bag}.orig.bag"
   # rviz: ar_overlay's overlay.rviz with the view moved to frame this bag's camera path.
   rosrun ar_demo demo_rviz_config "$(rospack find ar_overlay)/rviz/overlay.rviz" "$input" "$config"
-  local heading
-  heading="$(start_heading_deg "$input")"
-  echo "demo: replaying $(basename "$bag") (start bearing ${heading} deg) through launch/demo.launch (log: $dir/demo_launch.log)"
+  echo "demo: replaying $name through launch/demo.launch (log: $dir/demo_launch.log)"
   xvfb-run -a -s "-screen 0 1500x900x24" bash -c '
     set -u
     port="${ROS_MASTER_URI##*:}"
     roslaunch -p "$port" "$1/launch/demo.launch" bag:="$2" record_to:="$3/demo_run.bag" rviz:="$4" \
-      rviz_config:="$5" heading_prior_deg:="$6" >"$3/demo_launch.log" 2>&1 &
+      rviz_config:="$5" layout:="$6" heading_prior_deg:="$7" >"$3/demo_launch.log" 2>&1 &
     launch_pid=$!
     if [[ "$4" == true ]]; then
-      rosrun ar_demo grab_screen "$3/rviz.png" --bag "$2" --after-s "$7" --timeout-s 300 &
+      rosrun ar_demo grab_screen "$3/rviz.png" --bag "$2" --after-s "$8" --timeout-s 300 &
       grab_pid=$!
     fi
     wait "$launch_pid"
@@ -66,30 +58,47 @@ replay() {
       wait "$grab_pid" 2>/dev/null
     fi
     true
-  ' _ "$ROOT" "$input" "$dir" "$rviz" "$config" "$heading" "$SCREENSHOT_AT_S"
+  ' _ "$ROOT" "$input" "$dir" "$rviz" "$config" "$layout" "$heading" "$SCREENSHOT_AT_S"
   [[ -f "$dir/demo_run.bag" ]] || { echo "demo: the replay recorded nothing; see $dir/demo_launch.log" >&2; return 1; }
   local shot=()
   if [[ -f "$dir/rviz.png" ]]; then shot=(--screenshot "$dir/rviz.png"); fi
-  rosrun ar_demo demo_report --run "$dir/demo_run.bag" --truth "$input" --name "$(basename "$bag")" \
-    --out "$dir" "${shot[@]}"
+  rosrun ar_demo demo_report --run "$dir/demo_run.bag" --truth "$input" --name "$name" --out "$dir" "${shot[@]}"
   rm -f "$input" "$config"
 }
 
-replay "$BAG" "$OUT" true
+# 1. The bundled sample, with rviz. The sample bags are bz2-compressed to keep the repository
+# small, and rosbag play cannot decompress them at the camera rate on a loaded 2-core machine: it
+# falls behind, publishes everything at once and never advances /clock. So it replays an
+# uncompressed copy.
+INPUT="$OUT/.replay_input.bag"
+cp "$BAG" "$INPUT"
+rosbag decompress -q "$INPUT" >/dev/null
+rm -f "${INPUT%.bag}.orig.bag"
+replay "$INPUT" "$OUT" true "$(rospack find rig_sim)/config/layouts/default.yaml" "$(start_heading_deg "$INPUT")" \
+  "$(basename "$BAG")"
 REPORT="$OUT/report.md"
 
-# The second scenario: the camera turns away from the cones and back (the gyro experiment, 7.3).
-if [[ -n "$SECOND_BAG" ]]; then
-  name="$(basename "$SECOND_BAG" .bag)"
-  replay "$(realpath "$SECOND_BAG")" "$OUT/$name" false
+# 2. An outage and the recovery: rig_sim's look_away scenario (the gyro experiment, 7.3: ~6 s panned
+# away from the cones), generated here in 2-3 s with the asymmetric layout the system tests use, so
+# the tracker finds the right pose again from scratch when the cones come back (no 120-degree
+# ambiguity; see README.md, "Laying out the cones").
+if [[ "${DEMO_OUTAGE:-1}" == 1 ]]; then
+  dir="$OUT/look_away"
+  mkdir -p "$dir"
+  layout="$(rospack find ar_bringup)/config/layouts/asymmetric.yaml"
+  make_bag_args=(--scenario look_away --seed 1 --duration 16 --scale 0.25 --layout "$layout")
+  rosrun rig_sim make_bag "${make_bag_args[@]}" --output "$dir/.replay_input.bag" >/dev/null
+  replay "$dir/.replay_input.bag" "$dir" false "$layout" nan "rig_sim look_away (make_bag ${make_bag_args[*]:0:8} --layout asymmetric.yaml)"
   {
-    echo "## Second scenario: $name.bag"
+    echo "## Second scenario: the cones out of view, and back"
     echo
-    echo "The camera turns away from the cones and back: the EKF carries the pose on the gyros while"
-    echo "they are out of view. Its own report: [\`$name/report.md\`]($name/report.md)."
+    echo "rig_sim's \`look_away\` scenario: the camera pans away from the cones for about 6 s and"
+    echo "back; the EKF carries the pose on the gyros meanwhile. Generated by \`make demo\` with"
+    echo "\`rosrun rig_sim make_bag ${make_bag_args[*]:0:8} --layout asymmetric.yaml\` (ar_bringup's"
+    echo "asymmetric three-cone layout). Its own report, video and plots: [\`look_away/report.md\`](look_away/report.md)."
     echo
-    sed -n '/^## Figures/,/^## Plots/p' "$OUT/$name/report.md" | sed '1,2d;$d'
-    echo "![pose error]($name/pose_error.png)"
+    sed -n '/^## Figures/,/^## Plots/p' "$dir/report.md" | sed '1,2d;$d'
+    echo "![pose error](look_away/pose_error_norm.png)"
     echo
   } >> "$REPORT"
 fi
@@ -122,6 +131,6 @@ echo
 echo "demo: the results are in $OUT/"
 for f in report.md overlay.mp4 overlay_frames overlay_sheet.png rviz.png pose_error.png \
          pose_error_norm.png overlay_error.png gate_rejections.png rates.png demo_run.bag \
-         look_away_sample/report.md look_away_sample/overlay.mp4; do
+         look_away/report.md look_away/overlay.mp4; do
   if [[ -e "$OUT/$f" ]]; then echo "  $OUT/$f"; fi
 done
