@@ -33,9 +33,23 @@ struct Reprojection {
 };
 
 // The same residual for ceres::TinySolver over a local chart of the quaternion
-// manifold: x = (δθ, t) with R = exp(S(δθ)) R0. The rotation columns of the
-// Jacobian are those at δθ = 0, −S(R p) per point: they differ from the exact
-// ones by an invertible 3×3 factor, so the minimum (Jᵀf = 0) is the same.
+// manifold: x = (θ, t) with R = exp(S(θ)) R0. TinySolver re-linearises at the
+// current x on every iteration, so the rotation columns must be exact there:
+// d(R p)/dθ = −S(R p) J_l(θ), J_l the left Jacobian of SO(3). (With −S(R p)
+// alone, exact only at θ = 0, the stationary points are the same but the
+// Levenberg–Marquardt steps are wrong away from the start: from a linear start
+// several degrees off it stalls short of the minimum.)
+// J_l(θ) = I + (1 − cos|θ|)/|θ|² S(θ) + (|θ| − sin|θ|)/|θ|³ S(θ)², so that
+// exp(S(θ + δ)) ≈ exp(S(J_l δ)) exp(S(θ)); Taylor series near θ = 0.
+// (Not in pose_math, which has no SO(3) Jacobians; kept here, its one user.)
+Eigen::Matrix3d LeftJacobian(const Eigen::Vector3d& theta) {
+  const double a2 = theta.squaredNorm(), a = std::sqrt(a2);
+  const Eigen::Matrix3d S = pose_math::Skew(theta);
+  const double c1 = a < 1e-4 ? 0.5 - a2 / 24.0 : (1.0 - std::cos(a)) / a2;
+  const double c2 = a < 1e-4 ? 1.0 / 6.0 - a2 / 120.0 : (a - std::sin(a)) / (a2 * a);
+  return Eigen::Matrix3d::Identity() + c1 * S + c2 * S * S;
+}
+
 struct ChartReprojection {
   using Scalar = double;
   enum { NUM_RESIDUALS = Eigen::Dynamic, NUM_PARAMETERS = 6 };
@@ -44,6 +58,7 @@ struct ChartReprojection {
     const double angle = rotation_vector.norm();
     const Eigen::Matrix3d R = angle > 0.0 ? Eigen::AngleAxisd(angle, rotation_vector / angle).toRotationMatrix()
                                           : Eigen::Matrix3d::Identity();
+    const Eigen::Matrix3d J_left = LeftJacobian(rotation_vector);
     const int m = NumResiduals();
     for (int i = 0; i < rotated.cols(); ++i) {
       const Eigen::Vector3d Rp = R * rotated.col(i);
@@ -54,7 +69,7 @@ struct ChartReprojection {
       if (jacobian == nullptr) continue;
       Eigen::Matrix<double, 2, 3> P;
       P << fx * iz, 0.0, -fx * p.x() * iz * iz, 0.0, fy * iz, -fy * p.y() * iz * iz;
-      const Eigen::Matrix<double, 2, 3> Jr = -P * pose_math::Skew(Rp);
+      const Eigen::Matrix<double, 2, 3> Jr = -P * pose_math::Skew(Rp) * J_left;
       for (int k = 0; k < 3; ++k) {
         jacobian[2 * i + k * m] = Jr(0, k);
         jacobian[2 * i + 1 + k * m] = Jr(1, k);
