@@ -25,6 +25,11 @@ TEST(FillImuMessage, Rep145InImuFrame) {
   c.stamp_at_interval_midpoint = false;
   FillImuMessage(Sample(), c, {Eigen::Vector3d(0.01, 0.01, 0.01), Eigen::Vector3d(0.01, 0.02, 0.03), true}, &m);
   EXPECT_NEAR(m.header.stamp.toSec(), 1234.5, 1e-6);
+  c.stamp_at_interval_midpoint = true;
+  ImuSample at_zero = Sample();
+  at_zero.stamp_s = 0.001;  // read before sim time started: the shift must not make it negative
+  FillImuMessage(at_zero, c, {Eigen::Vector3d(0.01, 0.01, 0.01), Eigen::Vector3d(0.01, 0.02, 0.03), true}, &m);
+  EXPECT_EQ(m.header.stamp.toSec(), 0.0);
   EXPECT_EQ(m.orientation_covariance[0], -1.0);
   EXPECT_NEAR(m.angular_velocity.x, 0.09, 1e-12);  // bias removed
   EXPECT_NEAR(m.angular_velocity.y, -0.21, 1e-12);

@@ -1,5 +1,6 @@
 #include "imu_driver/ros_adapter.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -92,7 +93,9 @@ DriverConfig LoadConfig(const ros::NodeHandle& pnh) {
 
 void FillImuMessage(const ImuSample& s, const DriverConfig& config, const GyroCalibration& gyro,
                     sensor_msgs::Imu* msg) {
-  msg->header.stamp.fromSec(s.stamp_s - (config.stamp_at_interval_midpoint ? 0.5 / config.reader.stream.rate_hz : 0.0));
+  const double shift_s = config.stamp_at_interval_midpoint ? 0.5 / config.reader.stream.rate_hz : 0.0;
+  // Never below 0: ros::Time throws on negative times (a sample read before /clock started is at 0).
+  msg->header.stamp.fromSec(std::max(0.0, s.stamp_s - shift_s));
   Eigen::Vector3d omega(s.si.omega_imu_rad_s[0], s.si.omega_imu_rad_s[1], s.si.omega_imu_rad_s[2]);
   Eigen::Vector3d accel(s.si.accel_imu_m_s2[0], s.si.accel_imu_m_s2[1], s.si.accel_imu_m_s2[2]);
   if (config.subtract_gyro_bias) omega -= gyro.bias_rad_s;  // 3.27 with v_gyro left in
