@@ -109,7 +109,9 @@ def gate_rejections(path, events, t_end_s, visible=(), title="Gate rejections (c
     any_events = False
     for name, times in sorted(events.items()):
         times = np.sort(np.asarray(times, float))
-        any_events |= times.size > 0
+        if not times.size:
+            continue  # listed in the report's table; a flat line at zero says nothing here
+        any_events = True
         ax.step(np.concatenate([[0.0], times, [t_end_s]]),
                 np.concatenate([[0], np.arange(1, times.size + 1), [times.size]]),
                 where="post", lw=1.3, label="%s (%d)" % (name, times.size))
@@ -119,7 +121,7 @@ def gate_rejections(path, events, t_end_s, visible=(), title="Gate rejections (c
     ax.set_xlabel("time [s]")
     ax.set_ylabel("rejections")
     ax.grid(alpha=0.3)
-    if events:
+    if any_events:
         ax.legend(loc="upper left", fontsize=8)
     ax.set_title(title)
     fig.tight_layout()

@@ -84,6 +84,7 @@ def figures(summary):
     if err.size:
         out.append(("overlay error median", float(np.median(err)), "px"))
         out.append(("overlay error 95th percentile", float(np.percentile(err, 95)), "px"))
-    total = sum(len(v) for v in summary.gates.values())
-    out.append(("gate rejections", float(total), "measurements"))
+    frames = sum(len(v) for k, v in summary.gates.items() if k.startswith("cone_tracker/detections"))
+    if any(k.startswith("cone_tracker/detections") for k in summary.gates):
+        out.append(("frames without a tracker pose, by reason (sum)", float(frames), "frames"))
     return out
