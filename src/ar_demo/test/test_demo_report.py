@@ -98,7 +98,55 @@ class ReportTest(unittest.TestCase):
         self.assertGreaterEqual(frame.shape[1], 480)
 
 
+EXCERPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "handheld_run_excerpt.bag")
+
+
+class RecordedRunTest(unittest.TestCase):
+    """2.5 s that launch/demo.launch recorded from the real pipeline on handheld_sample.bag (the
+    messages as the nodelets publish them: cone_tracker's detections with their rejection reasons,
+    the nodelets' diagnostics, overlay images). How it was cut: data/README.md."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tempfile.mkdtemp(prefix="ar_demo_excerpt_")
+        cls.summary, cls.t0 = from_evaluation.summarize(EXCERPT)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.dir, ignore_errors=True)
+
+    def test_series_from_the_real_messages(self):
+        s = self.summary
+        self.assertAlmostEqual(s.duration_s, 2.46, places=2)
+        self.assertGreater(len(s.ekf), 200)  # pose_ekf at ~100 Hz
+        self.assertGreater(len(s.tracker), 20)
+        self.assertIsNotNone(s.ekf.rot_3sigma_rad)
+        self.assertTrue(np.all(np.isfinite(s.ekf.rot_err_rad)))
+        # What this pipeline does on the 256x192 sample (see README.md): about a degree, decimetres.
+        self.assertLess(np.degrees(np.linalg.norm(s.ekf.rot_err_rad, axis=1)).max(), 5.0)
+        self.assertLess(np.linalg.norm(s.ekf.pos_err_m, axis=1).max(), 1.0)
+        self.assertTrue(s.visible and s.accepted)
+        self.assertGreater(s.overlay_err_px.size, 50)
+        reasons = [k for k in s.gates if k.startswith("cone_tracker/detections: ")]
+        self.assertTrue(reasons, "no per-frame rejection reasons read from cone_tracker/detections")
+        rates = {topic: hz for topic, hz, _ in s.rates}
+        self.assertAlmostEqual(rates["camera/camera_info"], 30.0, delta=1.0)
+        self.assertAlmostEqual(rates["cone_tracker/detections"], 30.0, delta=1.0)
+
+    def test_report_and_video(self):
+        out = os.path.join(self.dir, "out")
+        subprocess.check_call(["rosrun", "ar_demo", "demo_report", "--run", EXCERPT, "--out", out])
+        with open(os.path.join(out, "report.md")) as f:
+            text = f.read()
+        self.assertIn("| `orientation_rms_deg` |", text)
+        self.assertIn("cone_tracker/detections: ", text)
+        video = cv2.VideoCapture(os.path.join(out, "overlay.mp4"))
+        # 6 overlay images 0.4 s apart, each held until the next: 2.0 s at 30 fps, plus the last frame.
+        self.assertEqual(int(video.get(cv2.CAP_PROP_FRAME_COUNT)), 61)
+
+
 if __name__ == "__main__":
     import rostest
 
-    rostest.rosrun("ar_demo", "test_demo_report", ReportTest)
+    # One run, one result file: both test cases, loaded by module name (this file's folder is on sys.path).
+    rostest.rosrun("ar_demo", "test_demo_report", "test_demo_report")

@@ -26,7 +26,8 @@ def _is_rejection(key):
 
 
 def rejection_events(bag_path, t0):
-    """{name: times [s]} from the bag's detections (per frame) and diagnostics (counter increases)."""
+    """{name: times [s]} from the bag's detections (per frame) and diagnostics (counter increases
+    after the first message)."""
     events, last = {}, {}
     with rosbag.Bag(bag_path) as bag:
         topics = [DETECTIONS, "/" + DETECTIONS, "/diagnostics", "diagnostics"]
@@ -45,7 +46,8 @@ def rejection_events(bag_path, t0):
                     except ValueError:
                         continue
                     name = "%s: %s" % (status.name, kv.key)
-                    events.setdefault(name, []).extend([t] * max(0, count - last.get(name, 0)))
+                    # The first value is the baseline: a bag cut from a longer run starts mid-count.
+                    events.setdefault(name, []).extend([t] * max(0, count - last.get(name, count)))
                     last[name] = count
     return {k: np.array(v) for k, v in events.items()}
 
