@@ -90,14 +90,14 @@ def write_report(summary, out_dir, video=None, screenshot=None, path=None):
     lines += ["Cones in view (at least three detected): %s. Tracker poses: %s." % (spans(summary.visible),
               spans(summary.accepted)), ""]
 
-    lines += ["## Plots", ""]
-    for name, caption in drawn:
-        lines += [caption[0].upper() + caption[1:] + ":", "", "![%s](%s)" % (name, name), ""]
-
     if summary.evaluation:
         lines += ["`ar_bringup.evaluation`'s summary of the same run (the system tests' figures; RMS "
                   "figures skip the EKF's first second):", "", "| figure | value |", "|---|---:|"]
         lines += ["| `%s` | %s |" % (k, _fmt(v)) for k, v in summary.evaluation.items()] + [""]
+    lines += ["## Plots", ""]
+    for name, caption in drawn:
+        lines += [caption[0].upper() + caption[1:] + ":", "", "![%s](%s)" % (name, name), ""]
+
     names = sorted(set(summary.gates) | set(summary.rejection_totals))
     if names:
         lines += ["## Gate rejections", "", "Counters from `/diagnostics` (value at the end of the run) and "
