@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <vector>
 
@@ -23,6 +24,27 @@ double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// Peak and base RMS against the truth over the frames' cones (each truth cone
+// to the detection whose peak is nearest, within 15 px).
+void PrintAccuracy(const char* name, cone_tracker::Segmenter* seg, const std::vector<cone_tracker::SimFrame>& frames,
+                   const cone_tracker::CameraModel& cam) {
+  double sp = 0, sb = 0;
+  int n = 0;
+  for (const auto& f : frames) {
+    const auto r = seg->Process({f.rgb.data(), f.camera.width_px, f.camera.height_px, f.camera.width_px * 3, "rgb8"}, cam);
+    for (const auto& t : f.truth) {
+      const cone_tracker::ConeDetection* m = nullptr;
+      for (const auto& d : r.cones)
+        if ((d.peak_px - t.peak_px).norm() < 15.0 && (!m || (d.peak_px - t.peak_px).norm() < (m->peak_px - t.peak_px).norm()))
+          m = &d;
+      if (m) sp += (m->peak_px - t.peak_px).squaredNorm(), sb += (m->base_px - t.base_px).squaredNorm(), ++n;
+    }
+  }
+  std::printf("%s: %d cones, peak RMS %.2f px, base RMS %.2f px\n", name, n, std::sqrt(sp / n), std::sqrt(sb / n));
+  std::printf("BENCH cone_tracker.peak_rms_%s %.3f px\n", name, std::sqrt(sp / n));
+  std::printf("BENCH cone_tracker.base_rms_%s %.3f px\n", name, std::sqrt(sb / n));
+}
+
 }  // namespace
 
 int main() {
@@ -30,10 +52,10 @@ int main() {
   cv::setNumThreads(1);
   rig_sim::Scene scene = rig_sim::DefaultScene();
   rig_sim::BoxSpec box;
-  box.center_m = Eigen::Vector3d(0.2, -0.5, 0.15);
+  box.center_m = Eigen::Vector3d(1.5, -1.3, 0.15);  // in view, clear of the cones (an orange blob touching a cone is gated out)
   scene.boxes.push_back(box);
   rig_sim::PatchSpec patch;
-  patch.center_m = Eigen::Vector2d(-0.3, 0.6);
+  patch.center_m = Eigen::Vector2d(-1.3, 1.6);
   scene.patches.push_back(patch);
   std::vector<SimFrame> frames;
   for (int i = 0; i < 8; ++i) {
@@ -49,7 +71,7 @@ int main() {
   const cv::Scalar lo(k.hue_min_rad * 90.0 / M_PI, k.sat_min * 255.0, k.val_min * 255.0);
   const cv::Scalar hi(k.hue_max_rad * 90.0 / M_PI, k.sat_max * 255.0, k.val_max * 255.0);
   const int kFrames = 1500;
-  std::vector<double> ours, baseline;
+  std::vector<double> ours, baseline, classify, blobs, measure;
   size_t cones = 0, cv_blobs = 0;
   cv::Mat hsv, mask, labels, stats, centroids;
   for (int i = 0; i < kFrames; ++i) {
@@ -64,6 +86,7 @@ int main() {
     const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8);
     const auto t2 = Clock::now();
     ours.push_back(Ms(t0, t1));
+    classify.push_back(r.classify_ms), blobs.push_back(r.blobs_ms), measure.push_back(r.measure_ms);
     baseline.push_back(Ms(t1, t2));
     cones += r.cones.size();
     cv_blobs += size_t(n - 1);
@@ -72,9 +95,33 @@ int main() {
   std::printf("frames %d at %dx%d, cones found per frame %.2f, OpenCV blobs per frame %.1f\n", kFrames, w, h,
               double(cones) / kFrames, double(cv_blobs) / kFrames);
   std::printf("segmentation (colour, ROI, blobs, gates, peak/base, undistort) median %.3f ms\n", ours_ms);
+  std::printf("  stages (medians): colour + ROI %.3f ms, blobs + merge %.3f ms, gates + peak/base (outline) + undistort %.3f ms\n",
+              Median(classify), Median(blobs), Median(measure));
   std::printf("OpenCV baseline (cvtColor HSV + inRange + connectedComponentsWithStats) median %.3f ms\n", base_ms);
   std::printf("BENCH cone_tracker.frame_median %.3f ms\n", ours_ms);
   std::printf("BENCH cone_tracker.opencv_color_cc_median %.3f ms\n", base_ms);
   std::printf("BENCH cone_tracker.color_cc_ratio %.3f ratio\n", ours_ms / base_ms);
+  std::printf("BENCH cone_tracker.stage_color_roi_median %.3f ms\n", Median(classify));
+  std::printf("BENCH cone_tracker.stage_blobs_median %.3f ms\n", Median(blobs));
+  std::printf("BENCH cone_tracker.stage_measure_median %.3f ms\n", Median(measure));
+  // The thesis's template refinement (3.1.5.4) on the same frames, for comparison.
+  SegmenterConfig tc;
+  tc.refinement = PeakRefinement::kTemplates;
+  const auto tb0 = Clock::now();
+  Segmenter tseg{tc};
+  std::printf("template set built at start-up in %.1f ms\n", Ms(tb0, Clock::now()));
+  std::vector<double> tmeasure, ttotal;
+  for (int i = 0; i < 400; ++i) {
+    const SimFrame& f = frames[size_t(i) % frames.size()];
+    const auto t0 = Clock::now();
+    const SegmentationResult r = tseg.Process({f.rgb.data(), w, h, w * 3, "rgb8"}, cam);
+    ttotal.push_back(Ms(t0, Clock::now()));
+    tmeasure.push_back(r.measure_ms);
+  }
+  std::printf("with template refinement: frame median %.3f ms, gates + peak/base (templates) + undistort %.3f ms\n",
+              Median(ttotal), Median(tmeasure));
+  std::printf("BENCH cone_tracker.frame_median_templates %.3f ms\n", Median(ttotal));
+  PrintAccuracy("outline", &seg, frames, cam);
+  PrintAccuracy("templates", &tseg, frames, cam);
   return 0;
 }

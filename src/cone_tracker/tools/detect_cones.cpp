@@ -5,6 +5,7 @@
 // thresholds on one's own photos; no camera calibration (no undistortion).
 #include <cstdio>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,14 @@ cone_tracker::SegmenterConfig LoadConfig(const std::string& path) {
   Read(n, "min_axis_ratio", &c.min_axis_ratio), Read(n, "max_axis_ratio", &c.max_axis_ratio);
   Read(n, "max_tilt_deg", &c.max_tilt_deg);
   Read(n, "merge_lateral_frac", &c.merge_lateral_frac), Read(n, "merge_gap_frac", &c.merge_gap_frac);
+  Read(n, "reject_bad_outline", &c.reject_bad_outline);
+  if (n["refinement"]) {
+    const std::string r = n["refinement"].as<std::string>();
+    if (r == "outline") c.refinement = cone_tracker::PeakRefinement::kOutline;
+    else if (r == "templates") c.refinement = cone_tracker::PeakRefinement::kTemplates;
+    else if (r == "none") c.refinement = cone_tracker::PeakRefinement::kNone;
+    else throw std::invalid_argument("refinement must be outline, templates or none, not '" + r + "'");
+  }
   return c;
 }
 

@@ -165,6 +165,9 @@ void MeasurementBuffer::Apply(Entry& e, bool count) {
   // like the thesis's measurement-driven EKF, the pose then freezes between
   // camera frames instead of extrapolating the last angular rate (7.3 survey).
   if (!e.is_camera && !config_.use_gyro && config_.accel_mode == AccelMode::kOff) return;
+  // The gyro's rate over (previous stamp, e.stamp] drives the prediction over it.
+  const bool gyro_first = !e.is_camera && config_.gyro_is_interval_mean;
+  const UpdateResult gyro = gyro_first ? ekf_.UpdateGyro(e.imu) : UpdateResult::kDisabled;
   ekf_.Predict(e.stamp_s);
   auto tally = [&](UpdateResult r, uint64_t* applied) {
     if (!count) return;
@@ -183,7 +186,7 @@ void MeasurementBuffer::Apply(Entry& e, bool count) {
       counters_.camera_nis_last = nis;
     }
   } else {
-    tally(ekf_.UpdateGyro(e.imu), &counters_.gyro_applied);
+    tally(gyro_first ? gyro : ekf_.UpdateGyro(e.imu), &counters_.gyro_applied);
     tally(ekf_.UpdateAccel(e.imu), &counters_.accel_applied);
   }
 }

@@ -99,6 +99,7 @@ NodeConfig LoadConfig(const ParamSource& nh) {
   Get(nh, "use_message_imu_covariance", &e.use_message_imu_covariance);
   Get(nh, "use_camera", &e.use_camera);
   Get(nh, "use_gyro", &e.use_gyro);
+  Get(nh, "gyro_is_interval_mean", &e.gyro_is_interval_mean);
   std::string accel_mode = "position_orientation", quat_integration = "first_order";
   Get(nh, "accel_mode", &accel_mode);
   Get(nh, "quat_integration", &quat_integration);

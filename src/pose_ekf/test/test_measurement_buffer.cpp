@@ -169,6 +169,38 @@ OutageRun RunOutage(const pose_ekf::EkfConfig& config) {
   return r;
 }
 
+// At rest for 0.2 s, then a turn about the vertical at 1 rad/s, seen by an IMU
+// at 100 Hz whose samples each cover the 10 ms before their stamp, in
+// orientation-only mode (the accelerometer cannot see heading). With
+// gyro_is_interval_mean the heading after n turning samples is the n·10 mrad
+// turned; in the thesis's order (time update, then gyro update) each sample
+// drives the interval after it, so the estimate is one sample behind.
+double HeadingAfterTurn(bool gyro_is_interval_mean, int turning_samples) {
+  pose_ekf::EkfConfig c;
+  c.use_camera = false;
+  c.init_from_gravity = true;
+  c.accel_mode = pose_ekf::AccelMode::kOrientation;
+  c.gyro_is_interval_mean = gyro_is_interval_mean;
+  MeasurementBuffer b(c);
+  constexpr int kRest = 20;
+  for (int k = 0; k <= kRest + turning_samples; ++k) {
+    pose_ekf::ImuMeasurement m;
+    m.stamp_s = 0.01 * k;
+    m.omega_camera_rad_s = k <= kRest ? Eigen::Vector3d::Zero() : Eigen::Vector3d(0.0, 0.0, 1.0);
+    m.accel_camera_m_s2 = Eigen::Vector3d(0.0, 0.0, c.gravity_m_s2);
+    b.AddImu(m);
+  }
+  const pose_math::Quat q = b.filter().Pose().pose.q;
+  return 2.0 * std::atan2(q[3], q[0]);
+}
+
+TEST(MeasurementBuffer, GyroSampleAsIntervalMeanDrivesTheIntervalBeforeIt) {
+  for (const int n : {1, 10}) {
+    EXPECT_NEAR(HeadingAfterTurn(true, n), 0.01 * n, 2e-4) << n;
+    EXPECT_NEAR(HeadingAfterTurn(false, n), 0.01 * (n - 1), 2e-4) << n;
+  }
+}
+
 TEST(MeasurementBuffer, OutageWithGyrosKeepsOrientationAndRecovers) {
   const OutageRun r = RunOutage(pose_ekf::EkfConfig{});
   std::printf(

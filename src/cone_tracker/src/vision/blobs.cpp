@@ -148,8 +148,12 @@ void MergeAlongAxes(std::vector<Blob>* blobs, double lateral_frac, double gap_fr
     std::sort(blobs->begin(), blobs->end(), [](const Blob& a, const Blob& b) { return a.area > b.area; });
     for (size_t i = 0; i < blobs->size() && !merged; ++i) {
       Blob& big = (*blobs)[i];
-      const Eigen::Vector2d axis(std::cos(big.orientation_rad), std::sin(big.orientation_rad));
-      const double half = 0.5 * big.major_px;
+      // A cone's body below its collars is squat (its base arc makes it
+      // nearly as wide as tall), so its major axis says little; cones stand
+      // upright (the segmenter's tilt gate), so the image vertical is used.
+      const Eigen::Vector2d axis = big.axis_ratio < 2.0 ? Eigen::Vector2d(0.0, 1.0)
+                                                        : Eigen::Vector2d(std::cos(big.orientation_rad), std::sin(big.orientation_rad));
+      const double half = big.axis_ratio < 2.0 ? 0.5 * big.bbox_h : 0.5 * big.major_px;
       for (size_t j = i + 1; j < blobs->size(); ++j) {
         const Blob& small = (*blobs)[j];
         const Eigen::Vector2d d = small.centroid - big.centroid;

@@ -1,6 +1,7 @@
 #include "cone_tracker/vision/segmenter.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -63,6 +64,21 @@ bool RefinePeak(const Blob& b, const Eigen::Vector2d& dir, double reach, Eigen::
   return true;
 }
 
+// Cone pixels on the axis beyond the base, within a height of it (a few
+// pixels either side of the axis).
+bool OrangeBelowBase(const MaskView& mask, const Eigen::Vector2d& peak, const Eigen::Vector2d& base) {
+  const Eigen::Vector2d axis = base - peak;
+  const double h = axis.norm();
+  if (!(h > 0.0 && h < 1e5)) return false;
+  const Eigen::Vector2d d = axis / h, e(d.y(), -d.x());
+  for (double t = 3.0; t <= std::max(8.0, h); t += 1.0)
+    for (double s : {-2.0, 0.0, 2.0}) {
+      const Eigen::Vector2d p = base + t * d + s * e;
+      if (mask.At(int(std::lround(p.x())), int(std::lround(p.y())))) return true;
+    }
+  return false;
+}
+
 }  // namespace
 
 std::string SegmenterConfig::Validate() const {
@@ -78,6 +94,9 @@ std::string SegmenterConfig::Validate() const {
   if (!(min_axis_ratio >= 1.0) || !(max_axis_ratio >= min_axis_ratio)) return "axis ratio bounds invalid";
   if (!(max_tilt_deg >= 0.0 && max_tilt_deg <= 90.0)) return "max_tilt_deg must be in [0, 90]";
   if (line_search_misses < 1) return "line_search_misses must be >= 1";
+  if (!(outline.outlier_px > 0.0) || !(outline.max_edge_rms_px > 0.0)) return "outline pixel bounds must be > 0";
+  if (!(outline.min_inlier_frac >= 0.0 && outline.min_inlier_frac <= 1.0)) return "outline.min_inlier_frac must be in [0, 1]";
+  if (!(template_search_px >= 0.0 && template_search_px <= 32.0)) return "template_search_px must be in [0, 32]";
   return "";
 }
 
@@ -87,6 +106,11 @@ void Segmenter::SetConfig(const SegmenterConfig& config) {
   const std::string error = config.Validate();
   if (!error.empty()) throw std::invalid_argument("SegmenterConfig: " + error);
   lut_.Build(config.hsi);
+  if (config.refinement == PeakRefinement::kTemplates && !templates_) {
+    TemplateSetConfig tc;
+    tc.max_tilt_deg = std::max(config.max_tilt_deg, 3.0);
+    templates_ = std::make_shared<const ConeTemplateSet>(tc);  // 3.1.5.4: the whole set at start-up
+  }
   config_ = config;
 }
 
@@ -144,7 +168,7 @@ bool Segmenter::Classify(const ImageView& in, SegmentationResult* out) {
   return true;
 }
 
-void Segmenter::Measure(const MaskView& mask, ConeDetection* det) const {
+bool Segmenter::Measure(const MaskView& mask, const CameraModel& camera, ConeDetection* det) const {
   const Blob& b = det->blob;
   const Eigen::Vector2d axis(std::cos(b.orientation_rad), std::sin(b.orientation_rad));
   // Extent of the blob along its axis; a merged blob's line search may cross
@@ -174,22 +198,73 @@ void Segmenter::Measure(const MaskView& mask, ConeDetection* det) const {
   // A cone's centroid lies nearer its base (a third of the height for a triangle).
   const int peak_side = reach[0] >= reach[1] ? 0 : 1;
   const Eigen::Vector2d dir_peak = peak_side == 0 ? axis : Eigen::Vector2d(-axis);
-  // A failed fit keeps the line search's end (no gate on it: the extent
-  // profile of collared cones is not yet clean enough to reject on).
-  RefinePeak(b, dir_peak, reach[peak_side], &det->peak_px);
+  const Eigen::Vector2d search_peak = b.centroid + reach[peak_side] * dir_peak;
+  det->peak_px = search_peak;
   det->base_px = b.centroid - reach[1 - peak_side] * dir_peak;
   det->mid_px = 0.5 * (det->peak_px + det->base_px);
+  if (det->failed_gates != 0) return false;
+  switch (config_.refinement) {
+    case PeakRefinement::kOutline: {
+      const OutlineFit fit = FitConeOutline(b.runs, search_peak, det->base_px, camera, config_.outline);
+      if (fit.ok && OrangeBelowBase(mask, fit.peak_px, fit.base_px)) {
+        // The tip of a collared cone whose body did not merge (it is hidden,
+        // or merged with something orange and rejected): its collar's rim
+        // looks like a base arc.
+        det->failed_gates |= kGateOutline;
+        return false;
+      }
+      if (fit.ok) {
+        det->peak_px = fit.peak_px, det->base_px = fit.base_px;
+        det->peak_undist_px = fit.peak_undist_px, det->base_undist_px = fit.base_undist_px;
+        return true;
+      }
+      if (fit.why.find("distortion") != std::string::npos) {  // a broken camera model, not a bad blob
+        det->failed_gates |= kGateUndistort;
+        return false;
+      }
+      if (config_.reject_bad_outline) {
+        det->failed_gates |= kGateOutline;
+        return false;
+      }
+      // Kept for photos: the apex from the blob's extent profile.
+      RefinePeak(b, dir_peak, reach[peak_side], &det->peak_px);
+      det->mid_px = 0.5 * (det->peak_px + det->base_px);
+      return false;
+    }
+    case PeakRefinement::kTemplates: {
+      const TemplateMatch m =
+          templates_->Refine(mask, search_peak, det->base_px, int(std::lround(config_.template_search_px)));
+      if (m.ok) det->peak_px = m.peak_px, det->base_px = m.base_px;
+      det->mid_px = 0.5 * (det->peak_px + det->base_px);
+      return false;
+    }
+    case PeakRefinement::kNone:
+      break;
+  }
+  return false;
 }
+
+namespace {
+double MsSince(std::chrono::steady_clock::time_point* t) {
+  const auto now = std::chrono::steady_clock::now();
+  const double ms = std::chrono::duration<double, std::milli>(now - *t).count();
+  *t = now;
+  return ms;
+}
+}  // namespace
 
 SegmentationResult Segmenter::Process(const ImageView& image, const CameraModel& camera) {
   SegmentationResult result;
+  auto t = std::chrono::steady_clock::now();
   if (!Classify(image, &result)) return result;
+  result.classify_ms = MsSince(&t);
   result.ok = true;
   if (result.roi_w <= 0) return result;
   const MaskView mask{mask_.data(), image.width, image.height, image.width};
   std::vector<Blob> blobs = FindBlobs(mask, result.roi_x, result.roi_y, result.roi_x + result.roi_w,
                                       result.roi_y + result.roi_h, config_.min_fragment_area_px);
   MergeAlongAxes(&blobs, config_.merge_lateral_frac, config_.merge_gap_frac);
+  result.blobs_ms = MsSince(&t);
   const SegmenterConfig& c = config_;
   for (Blob& b : blobs) {
     ConeDetection det;
@@ -204,8 +279,16 @@ SegmentationResult Segmenter::Process(const ImageView& image, const CameraModel&
     if (d.axis_ratio < c.min_axis_ratio || d.axis_ratio > c.max_axis_ratio) det.failed_gates |= kGateAxisRatio;
     if (std::abs(std::cos(d.orientation_rad)) > std::sin(c.max_tilt_deg * M_PI / 180.0))
       det.failed_gates |= kGateTilt;  // |angle from vertical| > max_tilt
-    if (det.failed_gates == 0) Measure(mask, &det);
-    if (det.failed_gates == 0) {
+    const bool undistorted = det.failed_gates == 0 && Measure(mask, camera, &det);
+    if (undistorted) {
+      // The mid-height point on the axis; it is not a measured point.
+      det.mid_undist_px = 0.5 * (det.peak_undist_px + det.base_undist_px);
+      std::vector<Eigen::Vector2d> mid = {det.mid_undist_px};
+      if (DistortPixels(camera, &mid))
+        det.mid_px = mid[0];
+      else
+        det.failed_gates |= kGateUndistort;
+    } else if (det.failed_gates == 0) {
       std::vector<Eigen::Vector2d> pts = {det.peak_px, det.mid_px, det.base_px};
       if (UndistortPixels(camera, &pts))
         det.peak_undist_px = pts[0], det.mid_undist_px = pts[1], det.base_undist_px = pts[2];
@@ -218,6 +301,7 @@ SegmentationResult Segmenter::Process(const ImageView& image, const CameraModel&
   }
   std::sort(result.cones.begin(), result.cones.end(),
             [](const ConeDetection& a, const ConeDetection& b) { return a.peak_px.x() < b.peak_px.x(); });
+  result.measure_ms = MsSince(&t);
   return result;
 }
 
@@ -229,7 +313,10 @@ bool UndistortPixels(const CameraModel& camera, std::vector<Eigen::Vector2d>* po
   std::vector<cv::Point2d> src, dst;
   for (const auto& p : *points) src.emplace_back(p.x(), p.y());
   try {
-    cv::undistortPoints(src, dst, K, camera.distortion, cv::noArray(), K);  // (3.11) iteratively
+    // (3.11) iteratively, to convergence: OpenCV's default of 5 iterations
+    // leaves tenths of a pixel at the corners with this lens.
+    cv::undistortPoints(src, dst, K, camera.distortion, cv::noArray(), K,
+                        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 1e-10));
   } catch (const cv::Exception&) {
     return false;
   }

@@ -36,6 +36,16 @@ struct EkfConfig {
   double gravity_m_s2 = 9.80665;
   double accel_gate_m_s2 = 0.5;  // (5.34): use the accelerometer only when | |z| - g | <= gate; <= 0 disables
 
+  // true: a gyro sample stamped t is the mean rate over the interval since the
+  // previous IMU sample (a sampled, low-pass-filtered MEMS gyro; rig_sim's
+  // Crista model; BROAD, whose Madgwick results integrate it that way), so it
+  // is applied before the time update over that interval and (5.21)
+  // integrates the rate measured over it. false (the thesis's order, 5.19 then
+  // 5.27): applied after, as the rate at t, which the quaternion then lags by
+  // one IMU period unless the samples are stamped at the interval's midpoint
+  // (test_rig_sim does that). Measured in test_broad and the README.
+  bool gyro_is_interval_mean = false;
+
   // Options beyond the thesis.
   QuatIntegration quat_integration = QuatIntegration::kFirstOrder;
   bool estimate_gyro_bias = false;  // three more states: z_gyro = omega + b (3.2.1)

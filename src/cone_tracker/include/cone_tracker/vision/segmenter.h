@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -13,8 +14,23 @@
 #include "cone_tracker/pose/pnp.h"
 #include "cone_tracker/vision/blobs.h"
 #include "cone_tracker/vision/color_lut.h"
+#include "cone_tracker/vision/cone_outline.h"
+#include "cone_tracker/vision/cone_templates.h"
 
 namespace cone_tracker {
+
+// Refinement of the line search's peak and base (3.1.5.4).
+//  kOutline (default): the two silhouette edges fitted over every row and
+//    intersected (cone_outline.h). On rig_sim's 28" road cones at 2-4 m it
+//    puts peak and base within ~0.3 px RMS of the truth, against ~1-2 px for
+//    the templates, which are quantised to 3 px of height and 3 deg of
+//    orientation, are triangles without the base ellipse's front arc, and cost
+//    more (test_refinement.cpp and the bench measure both).
+//  kTemplates: the thesis's nine templates around the estimate, from the
+//    precomputed height x orientation set, scored by normalised
+//    cross-correlation (cone_templates.h).
+//  kNone: the line search's ends.
+enum class PeakRefinement { kNone, kOutline, kTemplates };
 
 struct SegmenterConfig {
   HsiBounds hsi;
@@ -36,6 +52,14 @@ struct SegmenterConfig {
   // hi-vis vest, a box's side) is not a cone.
   double max_tilt_deg = 50.0;
   int line_search_misses = 3;  // consecutive non-cone pixels ending the line search
+  // How the line search's peak and base are refined (see PeakRefinement).
+  PeakRefinement refinement = PeakRefinement::kOutline;
+  OutlineConfig outline;
+  // With kOutline: a blob whose outline is not one cone's (two cones
+  // overlapping in the image, a cone partly hidden) is rejected with
+  // kGateOutline rather than measured wrongly. Off: it keeps the line search.
+  bool reject_bad_outline = true;
+  double template_search_px = 4.0;  // kTemplates: apex offsets tried, +- this around the line search's
 
   std::string Validate() const;
 };
@@ -49,6 +73,7 @@ enum GateBits : uint32_t {
   kGateLineSearch = 1u << 4,
   kGateUndistort = 1u << 5,
   kGateTilt = 1u << 6,
+  kGateOutline = 1u << 7,  // the outline is not one cone's (OutlineConfig)
 };
 
 struct ConeDetection {
@@ -75,6 +100,9 @@ struct SegmentationResult {
   std::vector<ConeDetection> cones;     // accepted, sorted by u of the peak
   std::vector<ConeDetection> rejected;  // with failed_gates set
   int roi_x = 0, roi_y = 0, roi_w = 0, roi_h = 0;
+  // Wall time per stage (steady clock): colour table + ROI, connected
+  // components + merging, gates + line search + refinement + undistortion.
+  double classify_ms = 0.0, blobs_ms = 0.0, measure_ms = 0.0;
 };
 
 class Segmenter {
@@ -94,12 +122,15 @@ class Segmenter {
 
  private:
   bool Classify(const ImageView& image, SegmentationResult* result);
-  void Measure(const MaskView& mask, ConeDetection* det) const;
+  // Line search, then the refinement; sets the undistorted points when the
+  // refinement computed them (returns true then).
+  bool Measure(const MaskView& mask, const CameraModel& camera, ConeDetection* det) const;
 
   SegmenterConfig config_;
   ColorLut lut_;
   std::vector<uint8_t> rgb_;   // debayered frame (bayer input only)
   std::vector<uint8_t> mask_;  // full-size, zero outside the ROI
+  std::shared_ptr<const ConeTemplateSet> templates_;  // built at start-up for kTemplates
 };
 
 // Undistorts pixel points in place to ideal pinhole pixels with the same K (3.1.2).

@@ -1,0 +1,235 @@
+#include "cone_tracker/vision/cone_outline.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <opencv2/calib3d.hpp>
+
+#include "cone_tracker/vision/segmenter.h"
+
+namespace cone_tracker {
+
+namespace {
+
+// x = a + b y through points weighted 0/1; returns false when degenerate.
+bool FitLine(const std::vector<Eigen::Vector2d>& p, const std::vector<char>& use, double* a, double* b) {
+  double n = 0, sy = 0, syy = 0, sx = 0, sxy = 0;
+  for (size_t i = 0; i < p.size(); ++i)
+    if (use[i]) n += 1, sy += p[i].y(), syy += p[i].y() * p[i].y(), sx += p[i].x(), sxy += p[i].x() * p[i].y();
+  const double det = n * syy - sy * sy;
+  if (n < 4 || !(det > 1e-9 * n * n)) return false;
+  *b = (n * sxy - sy * sx) / det;
+  *a = (sx - *b * sy) / n;
+  return true;
+}
+
+struct EdgeFit {
+  double a = 0, b = 0, rms = INFINITY, inlier_frac = 0, outward_frac = 0;
+};
+
+// Robust line through one edge's points: the line through two of the points
+// away from the base arc that most points lie near (a deterministic RANSAC:
+// collar rims and where a tilted collar crosses a row put many points off the
+// edge, all on one side), then least squares over the points within
+// outlier_px of it.
+// outward: +1 when the outside of the silhouette is toward +x (the right edge).
+bool FitEdge(const std::vector<Eigen::Vector2d>& p, const std::vector<char>& initial, const std::vector<char>& counted,
+             double outlier_px, double outward, EdgeFit* fit) {
+  std::vector<size_t> cand;
+  for (size_t i = 0; i < p.size(); ++i)
+    if (initial[i]) cand.push_back(i);
+  if (cand.size() < 4) return false;
+  const size_t half = cand.size() / 2;
+  int best_count = -1;
+  for (size_t k = 0; k < 48; ++k) {
+    const Eigen::Vector2d& q1 = p[cand[(k * 7919) % half]];
+    const Eigen::Vector2d& q2 = p[cand[half + (k * 104729 + k / 3) % (cand.size() - half)]];
+    if (std::abs(q2.y() - q1.y()) < 2.0) continue;
+    const double b = (q2.x() - q1.x()) / (q2.y() - q1.y()), a = q1.x() - b * q1.y();
+    const double tol = outlier_px * std::sqrt(1.0 + b * b);
+    int count = 0;
+    for (size_t i : cand) count += std::abs(p[i].x() - a - b * p[i].y()) < tol;
+    if (count > best_count) best_count = count, fit->a = a, fit->b = b;
+  }
+  if (best_count < 4) return false;
+  std::vector<char> use(p.size());
+  for (int iter = 0; iter < 3; ++iter) {
+    const double scale = 1.0 / std::sqrt(1.0 + fit->b * fit->b);  // x residual -> distance
+    for (size_t i = 0; i < p.size(); ++i) use[i] = std::abs(p[i].x() - fit->a - fit->b * p[i].y()) * scale < outlier_px;
+    if (!FitLine(p, use, &fit->a, &fit->b)) return false;
+  }
+  const double scale = 1.0 / std::sqrt(1.0 + fit->b * fit->b);
+  double ss = 0, n = 0, in_counted = 0, counted_n = 0, out_n = 0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    const double r = (p[i].x() - fit->a - fit->b * p[i].y()) * scale;
+    const bool in = std::abs(r) < outlier_px;
+    if (in) ss += r * r, n += 1;
+    if (counted[i]) counted_n += 1, in_counted += in;
+    out_n += r * outward > outlier_px;
+  }
+  fit->rms = n > 0 ? std::sqrt(ss / n) : INFINITY;
+  fit->inlier_frac = counted_n > 0 ? in_counted / counted_n : 0.0;
+  fit->outward_frac = p.empty() ? 0.0 : out_n / double(p.size());
+  return true;
+}
+
+}  // namespace
+
+bool DistortPixels(const CameraModel& camera, std::vector<Eigen::Vector2d>* points) {
+  bool any_distortion = false;
+  for (double k : camera.distortion) any_distortion |= (k != 0.0);
+  if (!any_distortion || !(camera.fx_px > 0.0) || !(camera.fy_px > 0.0)) return true;
+  std::vector<cv::Point3d> rays;
+  for (const auto& p : *points)
+    rays.emplace_back((p.x() - camera.cx_px) / camera.fx_px, (p.y() - camera.cy_px) / camera.fy_px, 1.0);
+  const cv::Matx33d K(camera.fx_px, 0, camera.cx_px, 0, camera.fy_px, camera.cy_px, 0, 0, 1);
+  std::vector<cv::Point2d> out;
+  try {
+    cv::projectPoints(rays, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), K, camera.distortion, out);  // (3.10)
+  } catch (const cv::Exception&) {
+    return false;
+  }
+  for (size_t i = 0; i < out.size(); ++i) {
+    if (!std::isfinite(out[i].x) || !std::isfinite(out[i].y)) return false;
+    (*points)[i] = Eigen::Vector2d(out[i].x, out[i].y);
+  }
+  return true;
+}
+
+OutlineFit FitConeOutline(const std::vector<Run>& runs, const Eigen::Vector2d& peak_guess,
+                          const Eigen::Vector2d& base_guess, const CameraModel& camera, const OutlineConfig& config) {
+  OutlineFit out;
+  const Eigen::Vector2d axis_guess = base_guess - peak_guess;
+  const double height = axis_guess.norm();
+  if (!(height >= 6.0)) return out.why = "too small", out;
+  const Eigen::Vector2d dir_guess = axis_guess / height;
+  if (std::abs(dir_guess.y()) < std::cos(config.max_tilt_deg * M_PI / 180.0)) return out.why = "tilted", out;
+  // Per row the outermost pixels; the edge lies half a pixel beyond their centres.
+  std::map<int, std::pair<int, int>> rows;
+  for (const Run& r : runs) {
+    auto it = rows.find(r.y);
+    if (it == rows.end())
+      rows.emplace(r.y, std::make_pair(r.x0, r.x1));
+    else
+      it->second.first = std::min(it->second.first, r.x0), it->second.second = std::max(it->second.second, r.x1);
+  }
+  // Per column the last pixel toward the base, in the base end of the blob.
+  const bool base_down = dir_guess.y() > 0.0;
+  std::map<int, int> bottom;
+  for (const Run& r : runs) {
+    if ((Eigen::Vector2d(0.5 * (r.x0 + r.x1), r.y) - peak_guess).dot(dir_guess) < 0.6 * height) continue;
+    for (int x = r.x0; x <= r.x1; ++x) {
+      auto it = bottom.find(x);
+      if (it == bottom.end())
+        bottom.emplace(x, r.y);
+      else
+        it->second = base_down ? std::max(it->second, r.y) : std::min(it->second, r.y);
+    }
+  }
+  std::vector<Eigen::Vector2d> pts;
+  pts.reserve(2 * rows.size() + bottom.size());
+  for (const auto& [y, ext] : rows) pts.emplace_back(ext.first - 0.5, y);
+  for (const auto& [y, ext] : rows) pts.emplace_back(ext.second + 0.5, y);
+  for (const auto& [x, y] : bottom) pts.emplace_back(x, y + (base_down ? 0.5 : -0.5));
+  std::vector<Eigen::Vector2d> guesses = {peak_guess, base_guess};
+  if (!UndistortPixels(camera, &pts) || !UndistortPixels(camera, &guesses)) return out.why = "undistortion failed", out;
+  const size_t nr = rows.size();
+  const std::vector<Eigen::Vector2d> left(pts.begin(), pts.begin() + long(nr)),
+      right(pts.begin() + long(nr), pts.begin() + long(2 * nr)), arc(pts.begin() + long(2 * nr), pts.end());
+  const Eigen::Vector2d peak0 = guesses[0], dir0 = (guesses[1] - guesses[0]).normalized();
+  const double h0 = (guesses[1] - guesses[0]).norm();
+  // Rows clear of the base arc start the fit and count toward the inlier fraction.
+  std::vector<char> initial(nr), counted(nr);
+  for (size_t i = 0; i < nr; ++i) {
+    const double t = (0.5 * (left[i] + right[i]) - peak0).dot(dir0) / h0;
+    initial[i] = t > 0.02 && t < 0.75;
+    counted[i] = t < 0.75;
+  }
+  EdgeFit fl, fr;
+  if (!FitEdge(left, initial, counted, config.outlier_px, -1.0, &fl) ||
+      !FitEdge(right, initial, counted, config.outlier_px, +1.0, &fr))
+    return out.why = "edge fit failed", out;
+  out.edge_rms_px = std::max(fl.rms, fr.rms);
+  out.inlier_frac = std::min(fl.inlier_frac, fr.inlier_frac);
+  if (!(out.edge_rms_px <= config.max_edge_rms_px)) return out.why = "edges not straight", out;
+  // Inward outliers are normal (collar rims, where a tilted collar crosses a
+  // row, the base arc, an occluder in front); outward ones are not: pixels
+  // beyond a cone's edge belong to something else merged into the blob.
+  out.outward_frac = std::max(fl.outward_frac, fr.outward_frac);
+  if (!(out.inlier_frac >= config.min_inlier_frac)) return out.why = "too little of an edge is straight", out;
+  if (!(out.outward_frac <= config.max_outward_frac)) return out.why = "outline is not one cone", out;
+  // Lines x - b y - a = 0, oriented positive inside the silhouette.
+  const Eigen::Vector3d inside(0.5 * (guesses[0] + guesses[1]).x(), 0.5 * (guesses[0] + guesses[1]).y(), 1.0);
+  Eigen::Vector3d l1(1.0, -fl.b, -fl.a), l2(1.0, -fr.b, -fr.a);
+  if (l1.dot(inside) < 0) l1 = -l1;
+  if (l2.dot(inside) < 0) l2 = -l2;
+  if (!(l1.dot(inside) > 0 && l2.dot(inside) > 0)) return out.why = "edges cross inside", out;
+  const Eigen::Vector3d apex_h = l1.cross(l2);
+  if (!(std::abs(apex_h.z()) > 1e-12)) return out.why = "parallel edges", out;
+  const Eigen::Vector2d apex = apex_h.head<2>() / apex_h.z();
+  if (!apex.allFinite()) return out.why = "no apex", out;
+  // The binary tip ends where the silhouette gets narrower than about a
+  // pixel, short of the apex; no cone pixel lies beyond the apex.
+  const double tan_half = std::tan(0.5 * std::abs(std::atan(fl.b) - std::atan(fr.b)));
+  const double along = (apex - peak0).dot(dir0), lateral = std::abs((apex - peak0).dot(Eigen::Vector2d(dir0.y(), -dir0.x())));
+  if (along > 1.5 || along < -(3.0 + 1.0 / std::max(tan_half, 0.02)) || lateral > 3.0 + config.max_apex_gap_frac * h0)
+    return out.why = "apex does not fit the tip", out;
+  // The axis: the mirror plane's image is the bisector of the edges as unit
+  // 3-vectors in normalised coordinates (l_n = K^T l), mapped back (K^-T).
+  Eigen::Vector3d axis;
+  if (camera.fx_px > 0.0 && camera.fy_px > 0.0) {
+    Eigen::Matrix3d K;
+    K << camera.fx_px, 0, camera.cx_px, 0, camera.fy_px, camera.cy_px, 0, 0, 1;
+    const Eigen::Vector3d n = (K.transpose() * l1).normalized() - (K.transpose() * l2).normalized();
+    axis = K.transpose().inverse() * n;
+  } else {
+    axis = l1 / l1.head<2>().norm() - l2 / l2.head<2>().norm();
+  }
+  Eigen::Vector2d d(axis.y(), -axis.x());
+  if (!(d.norm() > 0)) return out.why = "no axis", out;
+  d.normalize();
+  if (d.dot(dir0) < 0) d = -d;
+  const Eigen::Vector2d e(d.y(), -d.x());
+  // The front arc near the axis: t(s) = c0 + c1 s + c2 s^2 over the points
+  // within 60% of the base half-width of the axis; the base is at s = 0.
+  double s_lo = 0, s_hi = 0;
+  for (const auto& q : arc) s_lo = std::min(s_lo, (q - apex).dot(e)), s_hi = std::max(s_hi, (q - apex).dot(e));
+  const double half = 0.6 * std::min(-s_lo, s_hi);
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+  int n_arc = 0;
+  double t_near = -INFINITY;
+  for (const auto& q : arc) {
+    const double s = (q - apex).dot(e), t = (q - apex).dot(d);
+    if (std::abs(s) > half) continue;
+    const Eigen::Vector3d phi(1.0, s, s * s);
+    A += phi * phi.transpose(), rhs += phi * t, ++n_arc;
+    if (std::abs(s) < 1.0) t_near = std::max(t_near, t);
+  }
+  double t_base = t_near;
+  if (n_arc >= 5 && half >= 2.0) {
+    const Eigen::Vector3d c = A.ldlt().solve(rhs);
+    t_base = c(0);
+    // Something in front of the base (another cone's collar, say) leaves a
+    // notch in the arc: its points fall off the parabola.
+    double ss = 0.0;
+    for (const auto& q : arc) {
+      const double s = (q - apex).dot(e), t = (q - apex).dot(d);
+      if (std::abs(s) <= half) ss += std::pow(t - c(0) - c(1) * s - c(2) * s * s, 2);
+    }
+    out.arc_rms_px = std::sqrt(ss / n_arc);
+    if (!(out.arc_rms_px <= config.max_edge_rms_px)) return out.why = "base arc not an ellipse", out;
+  }
+  const Eigen::Vector2d base = apex + t_base * d;
+  if (!base.allFinite()) return out.why = "no base", out;
+  std::vector<Eigen::Vector2d> raw = {apex, base};
+  if (!DistortPixels(camera, &raw)) return out.why = "distortion failed", out;
+  out.peak_undist_px = apex, out.base_undist_px = base;
+  out.peak_px = raw[0], out.base_px = raw[1];
+  out.left_line = l1, out.right_line = l2, out.axis_line = axis;
+  out.ok = true;
+  return out;
+}
+
+}  // namespace cone_tracker

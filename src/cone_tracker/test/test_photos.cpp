@@ -1,0 +1,74 @@
+// Real photos (../shared/data/images/fsoco_site, Formula Student cones): runs
+// `detect_cones --config photos` on them, as a user would, and checks the
+// counts against what the photos show (counted by eye; the folder's labels
+// are drawn into example images, not machine-readable). Skips when absent.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace {
+
+std::string PhotoDir() {
+  if (const char* env = std::getenv("CONE_TRACKER_PHOTO_DIR")) return env;
+  const std::string pkg = CONE_TRACKER_SOURCE_DIR;
+  for (const char* up : {"/../..", "/../../.."})
+    for (const char* shared : {"/../shared", "/../../shared"}) {
+      const std::string dir = pkg + up + shared + "/data/images/fsoco_site";
+      if (std::ifstream(dir + "/fsg__cone.png")) return dir;
+    }
+  return "";
+}
+
+struct Expect {
+  int min_found, max_found;  // accepted cones
+};
+
+}  // namespace
+
+TEST(Photos, DetectConesOnFsocoPhotos) {
+  const std::string dir = PhotoDir();
+  if (dir.empty()) GTEST_SKIP() << "../shared/data/images/fsoco_site not found: real-photo test skipped";
+  // Orange (and red-white FSG) cones seen in each photo; yellow- and
+  // blue-only photos must give none.
+  const std::map<std::string, Expect> expect = {
+      {"fsg__cone.png", {0, 0}},                    // one yellow cone
+      {"fsg__fsg_cone.png", {0, 0}},                // one yellow cone
+      {"fsg__HD__fsg_yellow_cones.jpg", {0, 0}},    // yellow cones
+      {"labels__box-truncated.png", {0, 0}},        // blue cone
+      {"labels__box-base-plate.png", {0, 0}},       // blue cone
+      {"overview__ff.jpg", {0, 0}},                 // blue and yellow cones
+      {"labels__class-large-orange.png", {1, 1}},   // one large orange cone
+      {"overview__amz.png", {1, 3}},                // one near orange cone, distant ones ~20 px tall
+      {"fsg__HD__fsg_laptop.jpg", {2, 3}},          // two red-white cones
+      {"fsg__HD__fsg_2nd_run.jpg", {2, 10}},        // two red-white cones, orange print on the sign
+      {"fsg__HD__fsg_acceleration_track.jpg", {4, 7}},  // four red-white cones near
+  };
+  std::string cmd = std::string(DETECT_CONES_EXE) + " --config photos --output /tmp/cone_tracker_photos.jsonl";
+  for (const auto& [name, e] : expect) cmd += " " + dir + "/" + name;
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  std::ifstream in("/tmp/cone_tracker_photos.jsonl");
+  std::string line;
+  int lines = 0;
+  while (std::getline(in, line)) {
+    const nlohmann::json j = nlohmann::json::parse(line);
+    const std::string path = j["image"];
+    const std::string name = path.substr(path.rfind('/') + 1);
+    ASSERT_FALSE(j.contains("error")) << name << ": " << j["error"];
+    const int found = int(j["cones"].size());
+    std::printf("%-40s %d cones\n", name.c_str(), found);
+    const Expect& e = expect.at(name);
+    EXPECT_GE(found, e.min_found) << name;
+    EXPECT_LE(found, e.max_found) << name;
+    if (name == "labels__class-large-orange.png" && found == 1) {  // the whole cone, not a stripe of it
+      EXPECT_GT(j["cones"][0]["bbox"][3].get<double>(), 200.0);
+    }
+    ++lines;
+  }
+  EXPECT_EQ(lines, int(expect.size()));
+}
