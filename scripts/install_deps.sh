@@ -29,6 +29,8 @@ PACKAGES=(
   python3-std-msgs python3-sensor-msgs python3-std-srvs python3-diagnostic-msgs python3-nav-msgs
   # YAML files (rig_sim's cone layouts, imu_driver's calibrations); the BROAD IMU data set's .mat files (imu_driver via scipy, pose_ekf via matio)
   libyaml-cpp-dev python3-scipy libmatio-dev
+  # make demo's overlay video (OpenCV's VideoWriter, H.264); ROS's camera intrinsics calibration GUI
+  python3-opencv ros-camera-calibration python3-cv-bridge python3-image-geometry
 )
 
 if [[ "${1:-}" == "--print" ]]; then
