@@ -78,6 +78,13 @@ class Adapter : public testing::Test {
   TrackerAdapter adapter_;
 };
 
+// Every segmentation gate the vision core can set has a name in the
+// diagnostics and the detections message.
+TEST(GateNames, EverySegmentationGateIsNamed) {
+  for (uint32_t bit = 1; bit <= kGateOutline; bit <<= 1)
+    EXPECT_EQ(SegmentationGateNames(bit).size(), 1u) << "gate bit " << bit << " has no name";
+}
+
 }  // namespace
 
 // Every encoding reaches the core and gives the same cones. Plain cones (same size and layout, no
@@ -201,6 +208,27 @@ TEST_F(Adapter, LastPosePredictsAndTimeGoingBackClearsIt) {
   EXPECT_EQ(r.prediction_source, "none");
   EXPECT_EQ(adapter_.counters().time_jumps, 1u);
   EXPECT_EQ(r.status, FrameStatus::kPose);
+}
+
+// After an outage pose_ekf's coasting estimate can be far off: its tf
+// prediction then matches no cone. Once no pose was accepted for
+// reacquire_after_s the tracker re-initialises without it.
+TEST_F(Adapter, ReacquiresWhenTheTfPredictionKeepsFailing) {
+  ASSERT_EQ(adapter_.Process(Frame("rgb8", 10.0), std::nullopt).status, FrameStatus::kPose);
+  pose_math::Pose drifted = Truth();
+  drifted.t += Eigen::Vector3d(1.5, -1.0, 0.5);  // metres of drift
+  FrameResult r = adapter_.Process(Frame("rgb8", 10.5), drifted);
+  EXPECT_EQ(r.prediction_source, "tf");
+  EXPECT_NE(r.status, FrameStatus::kPose);
+  r = adapter_.Process(Frame("rgb8", 10.5 + adapter_.config().reacquire_after_s + 0.1), drifted);
+  EXPECT_EQ(r.prediction_source, "reacquire");
+  ASSERT_EQ(r.status, FrameStatus::kPose) << r.message;
+  const auto& p = r.pose->pose.pose.position;
+  EXPECT_LT((Eigen::Vector3d(p.x, p.y, p.z) - Truth().t).norm(), 0.1);
+  EXPECT_EQ(adapter_.counters().reacquisitions, 1u);
+  r = adapter_.Process(Frame("rgb8", 11.7), Truth());  // tracking again: tf predicts
+  EXPECT_EQ(r.prediction_source, "tf");
+  EXPECT_EQ(r.status, FrameStatus::kPose) << r.message;
 }
 
 TEST_F(Adapter, ReconfigureRebuildsTheColourTableAndRefusesBadValues) {

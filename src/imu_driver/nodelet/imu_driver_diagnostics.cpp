@@ -43,6 +43,7 @@ void DriverDiagnostics::Fill(const SerialReaderStatus& st, const DriverConfig& c
   s->add("sequence gaps", st.stream.sequence_gaps);
   s->add("samples missed", st.stream.samples_missed);
   s->add("sequence repeats", st.stream.sequence_repeats);
+  s->add("host clock jumps", st.stream.host_clock_jumps);
   s->add("bytes received", p.bytes_in);
   s->add("garbage bytes", p.garbage_bytes);
   s->add("rejected: bad CRC", p.bad_crc);

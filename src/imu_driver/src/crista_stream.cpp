@@ -27,6 +27,15 @@ void CristaStream::EndOfStream() {
   have_sequence_ = false;
 }
 
+double CristaStream::HostGapS(double arrival_s) {
+  const double gap_s = arrival_s - last_arrival_s_;
+  if (gap_s >= 0.0 && gap_s <= config_.max_outage_s) return gap_s;
+  // Sim time starting from 0, or a bag loop: the arrival clock stepped, so it
+  // says nothing about samples missed (it once made a sequence gap of 1.7e11).
+  ++counts_.host_clock_jumps;
+  return 0.0;
+}
+
 uint64_t CristaStream::UnwrapSequence(uint8_t seq, double arrival_s) {
   if (!have_sequence_) {
     have_sequence_ = true;
@@ -34,15 +43,15 @@ uint64_t CristaStream::UnwrapSequence(uint8_t seq, double arrival_s) {
     // After a reconnect the counter may have restarted: bridge the outage with
     // the host clock so the device time keeps increasing.
     if (counts_.samples > 0) {
-      ticks_ +=
-          static_cast<uint64_t>(std::max<int64_t>(1, std::llround((arrival_s - last_arrival_s_) * config_.rate_hz)));
+      const double gap_s = HostGapS(arrival_s);
+      ticks_ += static_cast<uint64_t>(std::max<int64_t>(1, std::llround(gap_s * config_.rate_hz)));
     }
     return ticks_;
   }
   int64_t delta = static_cast<uint8_t>(seq - last_sequence_);
   // The 8-bit counter wraps every 256 samples; after a long outage the host
   // clock says how many wraps were missed.
-  const double expected = (arrival_s - last_arrival_s_) * config_.rate_hz;
+  const double expected = HostGapS(arrival_s) * config_.rate_hz;
   if (expected > 128.0) delta += 256 * std::llround((expected - static_cast<double>(delta)) / 256.0);
   last_sequence_ = seq;
   if (delta == 0) {

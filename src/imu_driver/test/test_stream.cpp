@@ -59,6 +59,25 @@ TEST(Stream, SequenceGapsAndWrap) {
   EXPECT_EQ(c.samples.back().device_ticks, 11u + 256u);
 }
 
+// Sim time starts at 0 and then jumps to the bag's epoch; a bag loop steps it
+// back. Neither is an outage: no samples may be counted missed.
+TEST(Stream, HostClockJumpIsNotAnOutage) {
+  StreamCollector c;
+  auto feed = [&](uint8_t seq, double t) {
+    const auto f = Frame(seq);
+    c.stream.Feed(f.data(), f.size(), t);
+  };
+  feed(7, 0.0);
+  feed(8, 1.7e9);  // /clock arrives
+  feed(9, 1.7e9 + 0.01);
+  feed(10, 1.7e9 - 30);  // loop back
+  feed(11, 1.7e9 - 29.99);
+  EXPECT_EQ(c.stream.counts().samples_missed, 0u);
+  EXPECT_EQ(c.stream.counts().sequence_gaps, 0u);
+  EXPECT_EQ(c.stream.counts().host_clock_jumps, 2u);
+  EXPECT_EQ(c.samples.back().device_ticks - c.samples.front().device_ticks, 4u);
+}
+
 TEST(Stream, ScriptedFuzzGapsMatchDroppedFrames) {
   std::mt19937 rng(5);
   const test::ScriptedStream s = test::MakeScriptedStream(rng, 2000);

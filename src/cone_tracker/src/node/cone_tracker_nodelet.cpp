@@ -288,6 +288,7 @@ void ConeTrackerNodelet::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("invalid camera_info messages", c.bad_camera_info_msgs);
   stat.add("image/camera_info size mismatches", c.size_mismatch);
   stat.add("time jumps back", c.time_jumps);
+  stat.add("re-acquisitions (tf prediction ignored)", c.reacquisitions);
   stat.add("tf predictions used", tf_predictions_);
   stat.add("debug images built", debug_images_);
   stat.add("latency stamp to publish last (ms)", latency_ms_.last);

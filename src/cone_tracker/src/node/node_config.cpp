@@ -67,6 +67,7 @@ void ValidateConfig(const NodeConfig& c) {
   Check(!c.fixed_frame.empty(), "fixed_frame must not be empty");
   Check(!c.camera_frame.empty(), "camera_frame must not be empty");
   Check(c.prediction_max_age_s >= 0.0, "prediction_max_age_s must be >= 0");
+  Check(c.reacquire_after_s > 0.0, "reacquire_after_s must be > 0");
   Check(std::isnan(c.heading_prior_deg) || std::isfinite(c.heading_prior_deg),
         "heading_prior_deg must be finite or nan");
   Check(c.expected_rate_hz > 0.0, "expected_rate_hz must be > 0");
@@ -84,6 +85,7 @@ NodeConfig LoadConfig(const ros::NodeHandle& nh) {
   Get(nh, "camera_frame", &c.camera_frame);
   Get(nh, "use_tf_prediction", &c.use_tf_prediction);
   Get(nh, "prediction_max_age_s", &c.prediction_max_age_s);
+  Get(nh, "reacquire_after_s", &c.reacquire_after_s);
   Get(nh, "heading_prior_deg", &c.heading_prior_deg);
   Get(nh, "expected_rate_hz", &c.expected_rate_hz);
   Get(nh, "rate_tolerance", &c.rate_tolerance);

@@ -143,7 +143,10 @@ void TrackerAdapter::Reconfigure(const SegmenterConfig& segmenter, const ConePos
   config_ = next;
 }
 
-void TrackerAdapter::ClearTrack() { last_T_cones_camera_.reset(); }
+void TrackerAdapter::ClearTrack() {
+  last_T_cones_camera_.reset();
+  track_start_stamp_ = ros::Time();
+}
 
 FrameResult TrackerAdapter::Fail(FrameStatus status, const std::string& message) {
   FrameResult r;
@@ -154,9 +157,15 @@ FrameResult TrackerAdapter::Fail(FrameStatus status, const std::string& message)
 std::optional<pose_math::Pose> TrackerAdapter::Prediction(const ros::Time& stamp,
                                                           const std::optional<pose_math::Pose>& tf_T_cones_camera,
                                                           std::string* source) const {
-  if (tf_T_cones_camera) {
+  const ros::Time since = last_T_cones_camera_ ? last_pose_stamp_ : track_start_stamp_;
+  const bool lost = (stamp - since).toSec() > config_.reacquire_after_s;
+  if (tf_T_cones_camera && !lost) {
     *source = "tf";
     return tf_T_cones_camera;
+  }
+  if (tf_T_cones_camera) {
+    *source = "reacquire";
+    return std::nullopt;
   }
   if (last_T_cones_camera_ && (stamp - last_pose_stamp_).toSec() <= config_.prediction_max_age_s) {
     *source = "last_pose";
@@ -211,6 +220,7 @@ FrameResult TrackerAdapter::Process(const sensor_msgs::ImageConstPtr& msg,
     ClearTrack();
   }
   last_image_stamp_ = im.header.stamp;
+  if (track_start_stamp_.isZero()) track_start_stamp_ = im.header.stamp;
 
   // The frame is shared, not copied: toCvShare without a target encoding wraps msg->data.
   cv_bridge::CvImageConstPtr cv;
@@ -234,6 +244,11 @@ FrameResult TrackerAdapter::Process(const sensor_msgs::ImageConstPtr& msg,
     for (const std::string& g : SegmentationGateNames(d.failed_gates)) ++counters_.blobs_rejected_by_gate[g];
 
   const std::optional<pose_math::Pose> pred = Prediction(im.header.stamp, tf_T_cones_camera, &r.prediction_source);
+  reacquire_heading_rad_ = NAN;
+  if (r.prediction_source == "reacquire") {
+    ++counters_.reacquisitions;
+    reacquire_heading_rad_ = std::atan2(tf_T_cones_camera->t.y(), tf_T_cones_camera->t.x());
+  }
   FillPose(im, pred, &r);
   return r;
 }
@@ -244,7 +259,9 @@ void TrackerAdapter::FillPose(const sensor_msgs::Image& im, const std::optional<
   std::optional<pose_math::Pose> T_camera_cones_pred;
   if (pred) T_camera_cones_pred = pose_math::Invert(*pred);
   // Detections are undistorted already; the core solves on the pinhole K.
-  r->cone_pose = EstimateConePose(seg.cones, layout_, camera_, config_.pose, T_camera_cones_pred);
+  ConePoseConfig pose_config = config_.pose;
+  if (std::isfinite(reacquire_heading_rad_)) pose_config.initial_heading_rad = reacquire_heading_rad_;
+  r->cone_pose = EstimateConePose(seg.cones, layout_, camera_, pose_config, T_camera_cones_pred);
   const ConePoseResult& cp = r->cone_pose;
 
   auto det = boost::make_shared<ConeDetections>();

@@ -23,6 +23,9 @@ struct StreamConfig {
   enum class TimeSource { kSequence, kPps };
   TimeSource time_source = TimeSource::kSequence;
   TimeSyncConfig time_sync;
+  // A host-clock step between two samples larger than this (or backwards) is a
+  // clock jump (sim time starting, a bag loop), not an outage to bridge.
+  double max_outage_s = 3600.0;
 };
 
 struct ImuSample {
@@ -37,6 +40,7 @@ struct StreamCounts {
   uint64_t sequence_gaps = 0;                  // events where at least one sample was missing
   uint64_t samples_missed = 0;                 // sum of the gap sizes
   uint64_t sequence_repeats = 0;               // same sequence number twice in a row
+  uint64_t host_clock_jumps = 0;               // arrival clock went back or leapt: not used to bridge wraps
   std::array<uint64_t, 256> frames_by_type{};  // every CRC-valid frame of a defined type
   DeviceInfo device;                           // from the configuration replies
 };
@@ -60,6 +64,7 @@ class CristaStream {
  private:
   void OnFrame(const FrameView& frame);
   uint64_t UnwrapSequence(uint8_t seq, double arrival_s);
+  double HostGapS(double arrival_s);  // host-clock gap since the last sample; 0 on a clock jump
   double PpsDeviceTime(const ImuSampleSi& si);
 
   StreamConfig config_;
