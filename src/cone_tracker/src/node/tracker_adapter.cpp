@@ -157,15 +157,9 @@ FrameResult TrackerAdapter::Fail(FrameStatus status, const std::string& message)
 std::optional<pose_math::Pose> TrackerAdapter::Prediction(const ros::Time& stamp,
                                                           const std::optional<pose_math::Pose>& tf_T_cones_camera,
                                                           std::string* source) const {
-  const ros::Time since = last_T_cones_camera_ ? last_pose_stamp_ : track_start_stamp_;
-  const bool lost = (stamp - since).toSec() > config_.reacquire_after_s;
-  if (tf_T_cones_camera && !lost) {
+  if (tf_T_cones_camera) {
     *source = "tf";
     return tf_T_cones_camera;
-  }
-  if (tf_T_cones_camera) {
-    *source = "reacquire";
-    return std::nullopt;
   }
   if (last_T_cones_camera_ && (stamp - last_pose_stamp_).toSec() <= config_.prediction_max_age_s) {
     *source = "last_pose";
@@ -244,11 +238,8 @@ FrameResult TrackerAdapter::Process(const sensor_msgs::ImageConstPtr& msg,
     for (const std::string& g : SegmentationGateNames(d.failed_gates)) ++counters_.blobs_rejected_by_gate[g];
 
   const std::optional<pose_math::Pose> pred = Prediction(im.header.stamp, tf_T_cones_camera, &r.prediction_source);
-  reacquire_heading_rad_ = NAN;
-  if (r.prediction_source == "reacquire") {
-    ++counters_.reacquisitions;
-    reacquire_heading_rad_ = std::atan2(tf_T_cones_camera->t.y(), tf_T_cones_camera->t.x());
-  }
+  const ros::Time since = last_T_cones_camera_ ? last_pose_stamp_ : track_start_stamp_;
+  track_lost_ = (im.header.stamp - since).toSec() > config_.reacquire_after_s;
   FillPose(im, pred, &r);
   return r;
 }
@@ -259,9 +250,17 @@ void TrackerAdapter::FillPose(const sensor_msgs::Image& im, const std::optional<
   std::optional<pose_math::Pose> T_camera_cones_pred;
   if (pred) T_camera_cones_pred = pose_math::Invert(*pred);
   // Detections are undistorted already; the core solves on the pinhole K.
-  ConePoseConfig pose_config = config_.pose;
-  if (std::isfinite(reacquire_heading_rad_)) pose_config.initial_heading_rad = reacquire_heading_rad_;
-  r->cone_pose = EstimateConePose(seg.cones, layout_, camera_, pose_config, T_camera_cones_pred);
+  r->cone_pose = EstimateConePose(seg.cones, layout_, camera_, config_.pose, T_camera_cones_pred);
+  if (track_lost_ && pred && !r->cone_pose.ok && seg.cones.size() >= 3) {
+    // The track is lost and the prediction matched nothing: re-initialise from
+    // the linear algorithms (3.1.6), the prediction's bearing breaking the tie.
+    ConePoseConfig reinit = config_.pose;
+    reinit.initial_heading_rad = std::atan2(pred->t.y(), pred->t.x());
+    T_camera_cones_pred.reset();
+    r->cone_pose = EstimateConePose(seg.cones, layout_, camera_, reinit, std::nullopt);
+    r->prediction_source = "reacquire";
+    ++counters_.reacquisitions;
+  }
   const ConePoseResult& cp = r->cone_pose;
 
   auto det = boost::make_shared<ConeDetections>();

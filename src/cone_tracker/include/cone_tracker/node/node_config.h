@@ -31,10 +31,10 @@ struct NodeConfig {
   // pose if not older than that, else none (linear initialisation).
   bool use_tf_prediction = true;
   double prediction_max_age_s = 0.5;
-  // Track lost: no pose accepted for this long although frames kept coming
-  // (after an outage pose_ekf coasts on the gyros and its position drifts, so
-  // its prediction matches no cone). The tf prediction is then ignored and the
-  // linear algorithms re-initialise (3.1.6), its bearing breaking the 120 deg tie.
+  // Track lost: no pose accepted for this long (after an outage pose_ekf coasts
+  // on the gyros and its position drifts, so its prediction may match no cone).
+  // A frame whose prediction then fails is solved again without it: the linear
+  // algorithms re-initialise (3.1.6), the prediction's bearing breaking the tie.
   double reacquire_after_s = 1.0;
   // Tie-break among the rotations of a symmetric layout without a prediction:
   // the camera's bearing around the layout, atan2(y, x) of its position in

@@ -54,7 +54,7 @@ struct TrackerCounters {
   uint64_t bad_image = 0, unsupported_encoding = 0, size_mismatch = 0;
   uint64_t no_cones = 0, too_few_cones = 0, solver_failed = 0, rejected_chi2 = 0, rejected_motion = 0;
   uint64_t time_jumps = 0;
-  uint64_t reacquisitions = 0;   // frames where a lost track re-initialised, ignoring the tf prediction
+  uint64_t reacquisitions = 0;   // frames where a lost track re-initialised after its prediction failed
   uint64_t cones_found_sum = 0;  // accepted blobs over segmented frames
   uint64_t segmented_frames = 0;
   std::map<std::string, uint64_t> blobs_rejected_by_gate;  // segmentation gate name -> blobs
@@ -101,8 +101,8 @@ class TrackerAdapter {
   std::string camera_error_;
   std::optional<pose_math::Pose> last_T_cones_camera_;
   ros::Time last_pose_stamp_, last_image_stamp_;
-  ros::Time track_start_stamp_;         // first frame since the last ClearTrack (reacquire_after_s)
-  double reacquire_heading_rad_ = NAN;  // the stale tf prediction's bearing, while re-acquiring
+  ros::Time track_start_stamp_;  // first frame since the last ClearTrack (reacquire_after_s)
+  bool track_lost_ = false;      // no pose for reacquire_after_s: a failed prediction re-initialises
   TrackerCounters counters_;
 };
 
