@@ -14,6 +14,7 @@
 #include "cone_tracker/ConeDetections.h"
 #include "cone_tracker/node/layout.h"
 #include "handheld_limits.h"
+#include "nodelet_test_util.h"
 
 namespace cone_tracker {
 namespace {
@@ -38,16 +39,6 @@ struct Listener {
     }));
   }
 };
-
-bool SpinUntil(const std::function<bool()>& done, double timeout_s) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
-  while (ros::ok() && ros::WallTime::now() < end) {
-    ros::spinOnce();
-    if (done()) return true;
-    ros::WallDuration(0.002).sleep();
-  }
-  return done();
-}
 
 }  // namespace
 
