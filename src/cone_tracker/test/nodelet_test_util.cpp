@@ -7,6 +7,8 @@
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <sensor_msgs/Image.h>
 
+#include "rig_sim/ros/messages.h"
+
 namespace cone_tracker {
 
 bool SpinUntil(const std::function<bool()>& done, double timeout_s) {
@@ -20,15 +22,7 @@ bool SpinUntil(const std::function<bool()>& done, double timeout_s) {
 }
 
 sensor_msgs::CameraInfo CameraInfo(const rig_sim::CameraConfig& c) {
-  sensor_msgs::CameraInfo info;
-  info.header.frame_id = "camera_optical";
-  info.width = uint32_t(c.width_px), info.height = uint32_t(c.height_px);
-  info.distortion_model = "plumb_bob";
-  info.D = {c.k1, c.k2, c.p1, c.p2, c.k3};
-  info.K = {c.fu_px, 0, c.cu_px, 0, c.fv_px, c.cv_px, 0, 0, 1};
-  info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  info.P = {c.fu_px, 0, c.cu_px, 0, 0, c.fv_px, c.cv_px, 0, 0, 0, 1, 0};
-  return info;
+  return rig_sim::MakeCameraInfo(c, ros::Time(), "camera_optical");
 }
 
 double TrackerStatus::Value(const std::string& key) const {
