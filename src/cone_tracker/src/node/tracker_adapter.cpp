@@ -239,19 +239,19 @@ FrameResult TrackerAdapter::Process(const sensor_msgs::ImageConstPtr& msg,
 
   const std::optional<pose_math::Pose> pred = Prediction(im.header.stamp, tf_T_cones_camera, &r.prediction_source);
   const ros::Time since = last_T_cones_camera_ ? last_pose_stamp_ : track_start_stamp_;
-  track_lost_ = (im.header.stamp - since).toSec() > config_.reacquire_after_s;
-  FillPose(im, pred, &r);
+  const bool track_lost = (im.header.stamp - since).toSec() > config_.reacquire_after_s;
+  FillPose(im, pred, track_lost, &r);
   return r;
 }
 
-void TrackerAdapter::FillPose(const sensor_msgs::Image& im, const std::optional<pose_math::Pose>& pred,
+void TrackerAdapter::FillPose(const sensor_msgs::Image& im, const std::optional<pose_math::Pose>& pred, bool track_lost,
                               FrameResult* r) {
   const SegmentationResult& seg = r->segmentation;
   std::optional<pose_math::Pose> T_camera_cones_pred;
   if (pred) T_camera_cones_pred = pose_math::Invert(*pred);
   // Detections are undistorted already; the core solves on the pinhole K.
   r->cone_pose = EstimateConePose(seg.cones, layout_, camera_, config_.pose, T_camera_cones_pred);
-  if (track_lost_ && pred && !r->cone_pose.ok && seg.cones.size() >= 3) {
+  if (track_lost && pred && !r->cone_pose.ok && seg.cones.size() >= 3) {
     // The track is lost and the prediction matched nothing: re-initialise from
     // the linear algorithms (3.1.6), the prediction's bearing breaking the tie.
     ConePoseConfig reinit = config_.pose;

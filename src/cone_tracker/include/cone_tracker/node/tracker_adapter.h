@@ -89,8 +89,9 @@ class TrackerAdapter {
   std::optional<pose_math::Pose> Prediction(const ros::Time& stamp,
                                             const std::optional<pose_math::Pose>& tf_T_cones_camera,
                                             std::string* source) const;
+  // track_lost: no pose for reacquire_after_s, so a failed prediction re-initialises.
   void FillPose(const sensor_msgs::Image& image, const std::optional<pose_math::Pose>& T_cones_camera_pred,
-                FrameResult* r);
+                bool track_lost, FrameResult* r);
 
   NodeConfig config_;
   std::vector<ConeModel> layout_;
@@ -102,7 +103,6 @@ class TrackerAdapter {
   std::optional<pose_math::Pose> last_T_cones_camera_;
   ros::Time last_pose_stamp_, last_image_stamp_;
   ros::Time track_start_stamp_;  // first frame since the last ClearTrack (reacquire_after_s)
-  bool track_lost_ = false;      // no pose for reacquire_after_s: a failed prediction re-initialises
   TrackerCounters counters_;
 };
 
