@@ -9,7 +9,6 @@
 #include <boost/math/distributions/chi_squared.hpp>
 
 #include "pose_math/covariance.h"
-#include "pose_math/rotation.h"
 
 namespace cone_tracker {
 namespace {
@@ -39,8 +38,6 @@ DetectedCone ToMsg(const ConeDetection& d, int cone_id) {
   m.cone_id = cone_id;
   return m;
 }
-
-Eigen::Vector3d CameraInCones(const pose_math::Pose& T_camera_cones) { return pose_math::Invert(T_camera_cones).t; }
 
 }  // namespace
 
@@ -256,7 +253,6 @@ void TrackerAdapter::FillPose(const sensor_msgs::Image& im, const std::optional<
     // the linear algorithms (3.1.6), the prediction's bearing breaking the tie.
     ConePoseConfig reinit = config_.pose;
     reinit.initial_heading_rad = std::atan2(pred->t.y(), pred->t.x());
-    T_camera_cones_pred.reset();
     r->cone_pose = EstimateConePose(seg.cones, layout_, camera_, reinit, std::nullopt);
     r->prediction_source = "reacquire";
     ++counters_.reacquisitions;
@@ -276,17 +272,14 @@ void TrackerAdapter::FillPose(const sensor_msgs::Image& im, const std::optional<
   if (cp.pnp.ok) {
     det->reprojection_rms_px = cp.pnp.reproj_rms_px;
     det->chi2 = cp.chi2;
-    det->chi2_dof = int(cp.pnp.residuals_px.size()) * 2 - 6;
+    det->chi2_dof = cp.chi2_dof;
     det->chi2_threshold = cp.chi2_threshold;
     det->chi2_cdf = det->chi2_dof > 0 ? boost::math::cdf(boost::math::chi_squared(det->chi2_dof), cp.chi2) : 0.0;
     det->chi2_passed = !(cp.rejected_by & kPoseChi2);
-    if (T_camera_cones_pred) {
-      det->motion_checked = true;
-      det->motion_passed = !(cp.rejected_by & kPoseMotion);
-      det->translation_change_m = (CameraInCones(cp.pnp.T_camera_model) - CameraInCones(*T_camera_cones_pred)).norm();
-      det->rotation_change_deg =
-          pose_math::RotationErrorRad(cp.pnp.T_camera_model, *T_camera_cones_pred) * 180.0 / M_PI;
-    }
+    det->motion_checked = cp.motion_checked;
+    det->motion_passed = cp.motion_checked && !(cp.rejected_by & kPoseMotion);
+    det->translation_change_m = cp.translation_change_m;
+    det->rotation_change_deg = cp.rotation_change_deg;
   }
   r->detections = det;
 

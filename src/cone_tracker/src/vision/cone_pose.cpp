@@ -207,15 +207,18 @@ ConePoseResult EstimateConePose(const std::vector<ConeDetection>& dets, const st
     return out;
   }
   // 6.4.1: the squared image residual against chi-square with 2N - 6 dof.
-  const int dof = int(out.pnp.residuals_px.size()) * 2 - 6;
+  const int dof = out.chi2_dof = int(out.pnp.residuals_px.size()) * 2 - 6;
   for (const Eigen::Vector2d& r : out.pnp.residuals_px) out.chi2 += r.squaredNorm() / (cfg.sigma_px * cfg.sigma_px);
   out.chi2_threshold = dof > 0 ? boost::math::quantile(boost::math::chi_squared(dof), cfg.chi2_probability) : INFINITY;
   if (out.chi2 > out.chi2_threshold) out.rejected_by |= kPoseChi2;
   // 6.4.2: the change against the prediction.
   if (T_pred) {
-    const double dt = (CameraInCones(out.pnp.T_camera_model) - CameraInCones(*T_pred)).norm();
-    const double dr = pose_math::RotationErrorRad(out.pnp.T_camera_model, *T_pred) * 180.0 / M_PI;
-    if (dt > cfg.max_translation_change_m || dr > cfg.max_rotation_change_deg) out.rejected_by |= kPoseMotion;
+    out.motion_checked = true;
+    out.translation_change_m = (CameraInCones(out.pnp.T_camera_model) - CameraInCones(*T_pred)).norm();
+    out.rotation_change_deg = pose_math::RotationErrorRad(out.pnp.T_camera_model, *T_pred) * 180.0 / M_PI;
+    if (out.translation_change_m > cfg.max_translation_change_m ||
+        out.rotation_change_deg > cfg.max_rotation_change_deg)
+      out.rejected_by |= kPoseMotion;
   }
   out.ok = out.rejected_by == 0;
   if (!out.ok) out.error = "rejected by a gate";

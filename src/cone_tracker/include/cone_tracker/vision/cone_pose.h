@@ -60,6 +60,10 @@ struct ConePoseResult {
   std::vector<int> cone_of_detection;  // model cone index per detection, -1 unmatched
   PnpResult pnp;                       // T_camera_model = T_camera_cones with its covariance
   double chi2 = 0.0, chi2_threshold = 0.0;
+  int chi2_dof = 0;  // 2N - 6 over the N matched points
+  // 6.4.2 against the prediction, set when there was one and the solver succeeded.
+  bool motion_checked = false;
+  double translation_change_m = 0.0, rotation_change_deg = 0.0;
 };
 
 ConePoseResult EstimateConePose(const std::vector<ConeDetection>& detections, const std::vector<ConeModel>& cones,
