@@ -1,8 +1,8 @@
 #include "cone_tracker/vision/cone_outline.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
-#include <map>
 
 #include <opencv2/calib3d.hpp>
 
@@ -105,36 +105,44 @@ OutlineFit FitConeOutline(const std::vector<Run>& runs, const Eigen::Vector2d& p
   if (!(height >= 6.0)) return out.why = "too small", out;
   const Eigen::Vector2d dir_guess = axis_guess / height;
   if (std::abs(dir_guess.y()) < std::cos(config.max_tilt_deg * M_PI / 180.0)) return out.why = "tilted", out;
-  // Per row the outermost pixels; the edge lies half a pixel beyond their centres.
-  std::map<int, std::pair<int, int>> rows;
+  // Per row the outermost pixels; the edge lies half a pixel beyond their
+  // centres. Dense over the blob's rows and columns (ascending, as the fits
+  // expect), not maps: this runs per blob per frame.
+  int y_lo = INT_MAX, y_hi = INT_MIN;
+  for (const Run& r : runs) y_lo = std::min(y_lo, r.y), y_hi = std::max(y_hi, r.y);
+  std::vector<std::pair<int, int>> row_ext(runs.empty() ? 0 : size_t(y_hi - y_lo + 1), {INT_MAX, INT_MIN});
   for (const Run& r : runs) {
-    auto it = rows.find(r.y);
-    if (it == rows.end())
-      rows.emplace(r.y, std::make_pair(r.x0, r.x1));
-    else
-      it->second.first = std::min(it->second.first, r.x0), it->second.second = std::max(it->second.second, r.x1);
+    auto& e = row_ext[size_t(r.y - y_lo)];
+    e.first = std::min(e.first, r.x0), e.second = std::max(e.second, r.x1);
   }
   // Per column the last pixel toward the base, in the base end of the blob.
   const bool base_down = dir_guess.y() > 0.0;
-  std::map<int, int> bottom;
+  auto in_base_end = [&](const Run& r) {
+    return !((Eigen::Vector2d(0.5 * (r.x0 + r.x1), r.y) - peak_guess).dot(dir_guess) < 0.6 * height);
+  };
+  int x_lo = INT_MAX, x_hi = INT_MIN;
+  for (const Run& r : runs)
+    if (in_base_end(r)) x_lo = std::min(x_lo, r.x0), x_hi = std::max(x_hi, r.x1);
+  const int no_row = base_down ? INT_MIN : INT_MAX;
+  std::vector<int> bottom(x_hi >= x_lo ? size_t(x_hi - x_lo + 1) : 0, no_row);
   for (const Run& r : runs) {
-    if ((Eigen::Vector2d(0.5 * (r.x0 + r.x1), r.y) - peak_guess).dot(dir_guess) < 0.6 * height) continue;
+    if (!in_base_end(r)) continue;
     for (int x = r.x0; x <= r.x1; ++x) {
-      auto it = bottom.find(x);
-      if (it == bottom.end())
-        bottom.emplace(x, r.y);
-      else
-        it->second = base_down ? std::max(it->second, r.y) : std::min(it->second, r.y);
+      int& b = bottom[size_t(x - x_lo)];
+      b = base_down ? std::max(b, r.y) : std::min(b, r.y);
     }
   }
   std::vector<Eigen::Vector2d> pts;
-  pts.reserve(2 * rows.size() + bottom.size());
-  for (const auto& [y, ext] : rows) pts.emplace_back(ext.first - 0.5, y);
-  for (const auto& [y, ext] : rows) pts.emplace_back(ext.second + 0.5, y);
-  for (const auto& [x, y] : bottom) pts.emplace_back(x, y + (base_down ? 0.5 : -0.5));
+  pts.reserve(2 * row_ext.size() + bottom.size());
+  size_t nr = 0;
+  for (size_t i = 0; i < row_ext.size(); ++i)
+    if (row_ext[i].first != INT_MAX) pts.emplace_back(row_ext[i].first - 0.5, y_lo + int(i)), ++nr;
+  for (size_t i = 0; i < row_ext.size(); ++i)
+    if (row_ext[i].first != INT_MAX) pts.emplace_back(row_ext[i].second + 0.5, y_lo + int(i));
+  for (size_t i = 0; i < bottom.size(); ++i)
+    if (bottom[i] != no_row) pts.emplace_back(x_lo + int(i), bottom[i] + (base_down ? 0.5 : -0.5));
   std::vector<Eigen::Vector2d> guesses = {peak_guess, base_guess};
   if (!UndistortPixels(camera, &pts) || !UndistortPixels(camera, &guesses)) return out.why = "undistortion failed", out;
-  const size_t nr = rows.size();
   const std::vector<Eigen::Vector2d> left(pts.begin(), pts.begin() + long(nr)),
       right(pts.begin() + long(nr), pts.begin() + long(2 * nr)), arc(pts.begin() + long(2 * nr), pts.end());
   const Eigen::Vector2d peak0 = guesses[0], dir0 = (guesses[1] - guesses[0]).normalized();
