@@ -34,9 +34,7 @@ bool Project(const CameraModel& camera, const pose_math::Pose& T, const std::vec
     image->emplace_back(camera.fx_px * p.x() / p.z() + camera.cx_px, camera.fy_px * p.y() / p.z() + camera.cy_px);
     object.emplace_back(m.x(), m.y(), m.z());
   }
-  bool distorted = false;
-  for (const double k : camera.distortion) distorted = distorted || k != 0.0;
-  if (!distorted) return true;
+  if (!camera.HasDistortion()) return true;
   const Eigen::Vector3d r = pose_math::RotationVectorFromQuat(T.q);
   const cv::Vec3d rvec(r.x(), r.y(), r.z()), tvec(T.t.x(), T.t.y(), T.t.z());
   const cv::Matx33d K(camera.fx_px, 0, camera.cx_px, 0, camera.fy_px, camera.cy_px, 0, 0, 1);

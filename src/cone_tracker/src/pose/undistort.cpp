@@ -11,9 +11,7 @@ bool NormalizeImagePoints(const CameraModel& camera, const std::vector<Eigen::Ve
                           Eigen::Matrix2Xd* normalized) {
   const int n = static_cast<int>(image_points_px.size());
   normalized->resize(2, n);
-  bool distorted = false;
-  for (const double k : camera.distortion) distorted = distorted || k != 0.0;
-  if (!distorted) {
+  if (!camera.HasDistortion()) {
     for (int i = 0; i < n; ++i) {
       (*normalized)(0, i) = (image_points_px[i].x() - camera.cx_px) / camera.fx_px;
       (*normalized)(1, i) = (image_points_px[i].y() - camera.cy_px) / camera.fy_px;

@@ -77,9 +77,7 @@ bool FitEdge(const std::vector<Eigen::Vector2d>& p, const std::vector<char>& ini
 }  // namespace
 
 bool DistortPixels(const CameraModel& camera, std::vector<Eigen::Vector2d>* points) {
-  bool any_distortion = false;
-  for (double k : camera.distortion) any_distortion |= (k != 0.0);
-  if (!any_distortion || !(camera.fx_px > 0.0) || !(camera.fy_px > 0.0)) return true;
+  if (!camera.HasDistortion() || !(camera.fx_px > 0.0) || !(camera.fy_px > 0.0)) return true;
   std::vector<cv::Point3d> rays;
   for (const auto& p : *points)
     rays.emplace_back((p.x() - camera.cx_px) / camera.fx_px, (p.y() - camera.cy_px) / camera.fy_px, 1.0);

@@ -307,9 +307,7 @@ SegmentationResult Segmenter::Process(const ImageView& image, const CameraModel&
 }
 
 bool UndistortPixels(const CameraModel& camera, std::vector<Eigen::Vector2d>* points) {
-  bool any_distortion = false;
-  for (double k : camera.distortion) any_distortion |= (k != 0.0);
-  if (!any_distortion || !(camera.fx_px > 0.0) || !(camera.fy_px > 0.0)) return true;
+  if (!camera.HasDistortion() || !(camera.fx_px > 0.0) || !(camera.fy_px > 0.0)) return true;
   const cv::Matx33d K(camera.fx_px, 0, camera.cx_px, 0, camera.fy_px, camera.cy_px, 0, 0, 1);
   std::vector<cv::Point2d> src, dst;
   for (const auto& p : *points) src.emplace_back(p.x(), p.y());

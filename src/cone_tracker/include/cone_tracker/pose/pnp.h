@@ -27,6 +27,12 @@ struct CameraModel {
   double cx_px = 0.0;
   double cy_px = 0.0;
   std::vector<double> distortion;  // empty or all zero: no distortion
+
+  bool HasDistortion() const {
+    for (double k : distortion)
+      if (k != 0.0) return true;
+    return false;
+  }
 };
 
 enum class PnpMethod {
