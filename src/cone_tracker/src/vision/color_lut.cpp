@@ -53,12 +53,20 @@ bool InBounds(const HsiBounds& k, uint8_t r, uint8_t g, uint8_t b) {
   return hue_ok && s >= k.sat_min && s <= k.sat_max && v >= k.val_min && v <= k.val_max;  // (3.22)
 }
 
-ColorLut::ColorLut() : bits_(size_t(1) << 18, 0) { Fill(); }
-
-void ColorLut::Build(const HsiBounds& bounds) {
+namespace {
+const HsiBounds& Validated(const HsiBounds& bounds) {
   const std::string error = bounds.Validate();
   if (!error.empty()) throw std::invalid_argument("HsiBounds: " + error);
-  if (bounds == bounds_) return;
+  return bounds;
+}
+}  // namespace
+
+ColorLut::ColorLut() : ColorLut(HsiBounds()) {}
+
+ColorLut::ColorLut(const HsiBounds& bounds) : bounds_(Validated(bounds)), bits_(size_t(1) << 18, 0) { Fill(); }
+
+void ColorLut::Build(const HsiBounds& bounds) {
+  if (Validated(bounds) == bounds_) return;
   bounds_ = bounds;
   Fill();
 }

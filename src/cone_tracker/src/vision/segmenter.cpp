@@ -101,12 +101,22 @@ std::string SegmenterConfig::Validate() const {
   return "";
 }
 
-Segmenter::Segmenter(const SegmenterConfig& config) { SetConfig(config); }
-
-void Segmenter::SetConfig(const SegmenterConfig& config) {
+namespace {
+// The colour bounds of a config that passed Validate() as a whole, so a bad
+// config is refused before the table is filled.
+const HsiBounds& ValidatedHsi(const SegmenterConfig& config) {
   const std::string error = config.Validate();
   if (!error.empty()) throw std::invalid_argument("SegmenterConfig: " + error);
-  lut_.Build(config.hsi);
+  return config.hsi;
+}
+}  // namespace
+
+// The table is filled once, from the config's bounds (not from the defaults
+// and then again): the fill takes ~0.1 s.
+Segmenter::Segmenter(const SegmenterConfig& config) : lut_(ValidatedHsi(config)) { SetConfig(config); }
+
+void Segmenter::SetConfig(const SegmenterConfig& config) {
+  lut_.Build(ValidatedHsi(config));  // a no-op when the bounds are unchanged
   if (config.refinement == PeakRefinement::kTemplates && !templates_) {
     TemplateSetConfig tc;
     tc.max_tilt_deg = std::max(config.max_tilt_deg, 3.0);

@@ -35,6 +35,8 @@ bool InBounds(const HsiBounds& bounds, uint8_t r, uint8_t g, uint8_t b);
 class ColorLut {
  public:
   ColorLut();  // built from the default bounds
+  // Built from these bounds; throws std::invalid_argument like Build().
+  explicit ColorLut(const HsiBounds& bounds);
   // Rebuilds the table (~100 ms); a no-op when the bounds are unchanged.
   // Throws std::invalid_argument with Validate()'s message on bad bounds.
   void Build(const HsiBounds& bounds);
