@@ -36,6 +36,11 @@ DEFAULT_MODEL_POINTS = np.array([[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 
 REJECTION_WORDS = ("gate", "reject", "dropped")
 
 
+def is_rejection_key(key):
+    """Whether a diagnostic key names a rejection counter (REJECTION_WORDS)."""
+    return any(w in key.lower() for w in REJECTION_WORDS)
+
+
 @dataclasses.dataclass
 class Poses:
     """Stamped poses T_cones_camera; ``cov`` is the ROS 6x6 covariance (None for the truth)."""
@@ -130,12 +135,18 @@ def recording_from_messages(messages: Iterable[Tuple[str, object]]) -> Recording
         pose_rejections=_pose_rejections(dets))
 
 
+def bag_messages(path: str, topics=TOPICS):
+    """(topic, message) pairs of a bag in time order, on these topics with or without a leading '/'."""
+    import rosbag  # only here: the rest of the module works without ROS's Python packages
+    names = {t.lstrip("/") for t in topics}
+    with rosbag.Bag(path) as bag:
+        for topic, msg, _ in bag.read_messages(topics=list(names | {"/" + t for t in names})):
+            yield topic, msg
+
+
 def load_bag(path: str, topics=TOPICS) -> Recording:
     """Reads a bag (e.g. from launch/replay.launch record:=PATH) into a Recording."""
-    import rosbag  # only here: the rest of the module works without ROS's Python packages
-    wanted = set(topics) | {t.lstrip("/") for t in topics} | {"/" + t.lstrip("/") for t in topics}
-    with rosbag.Bag(path) as bag:
-        return recording_from_messages((topic, msg) for topic, msg, _ in bag.read_messages(topics=list(wanted)))
+    return recording_from_messages(bag_messages(path, topics))
 
 
 def message_types():
@@ -314,7 +325,7 @@ def evaluate(rec: Recording, model_points=DEFAULT_MODEL_POINTS, settle_s=1.0, ma
     rejections = dict(rec.pose_rejections)
     for name, values in rec.diagnostics.items():
         for key, value in values.items():
-            if any(w in key.lower() for w in REJECTION_WORDS):
+            if is_rejection_key(key):
                 try:
                     rejections["%s: %s" % (name, key)] = float(value)
                 except ValueError:
