@@ -174,16 +174,19 @@ class Recorder:
         import rospy
         self._lock = threading.Lock()
         self._messages: List[Tuple[str, object]] = []
+        self._counts: Dict[str, int] = {}  # per topic without the leading '/': count() is polled
         self._subs = [rospy.Subscriber(topic, cls, self._callback, callback_args=topic, queue_size=queue_size)
                       for topic, cls in message_types().items()]
 
     def _callback(self, msg, topic):
         with self._lock:
             self._messages.append((topic, msg))
+            key = topic.lstrip("/")
+            self._counts[key] = self._counts.get(key, 0) + 1
 
     def count(self, topic):
         with self._lock:
-            return sum(1 for t, _ in self._messages if t.lstrip("/") == topic.lstrip("/"))
+            return self._counts.get(topic.lstrip("/"), 0)
 
     def unregister(self):
         for s in self._subs:
