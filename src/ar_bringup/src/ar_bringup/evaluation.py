@@ -278,7 +278,7 @@ def _rate(t):
     return float((len(t) - 1) / (t[-1] - t[0])) if len(t) > 1 and t[-1] > t[0] else 0.0
 
 
-def _rms(x):
+def rms(x):
     return float(np.sqrt(np.mean(np.square(x)))) if len(x) else float("nan")
 
 
@@ -341,14 +341,14 @@ def evaluate(rec: Recording, model_points=DEFAULT_MODEL_POINTS, settle_s=1.0, ma
     inside3 = np.all(np.abs(ekf.rot_error_deg[m]) <= ekf.sigma3_rot_deg[m], axis=1) \
         if ekf.sigma3_rot_deg is not None and m.any() else np.zeros(0)
     summary = {
-        "orientation_rms_deg": _rms(ekf.orientation_error_deg[m]),
+        "orientation_rms_deg": rms(ekf.orientation_error_deg[m]),
         "orientation_max_deg": float(ekf.orientation_error_deg[m].max()) if m.any() else float("nan"),
-        "position_rms_m": _rms(ekf.position_error_m[m]),
+        "position_rms_m": rms(ekf.position_error_m[m]),
         "position_max_m": float(ekf.position_error_m[m].max()) if m.any() else float("nan"),
-        "tracker_orientation_rms_deg": _rms(trk.orientation_error_deg),
-        "tracker_position_rms_m": _rms(trk.position_error_m),
+        "tracker_orientation_rms_deg": rms(trk.orientation_error_deg),
+        "tracker_position_rms_m": rms(trk.position_error_m),
         "orientation_within_3sigma": float(inside3.mean()) if len(inside3) else float("nan"),
-        "overlay_rms_px": _rms(ov_px[mo]),
+        "overlay_rms_px": rms(ov_px[mo]),
         "overlay_median_px": float(np.median(ov_px[mo])) if mo.any() else float("nan"),
         "overlay_p95_px": float(np.percentile(ov_px[mo], 95)) if mo.any() else float("nan"),
         "overlay_max_px": float(ov_px[mo].max()) if mo.any() else float("nan"),
