@@ -36,6 +36,11 @@ DEFAULT_MODEL_POINTS = np.array([[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 
 REJECTION_WORDS = ("gate", "reject", "dropped")
 
 
+def is_rejection_key(key):
+    """Whether a diagnostic key names a rejection counter (REJECTION_WORDS)."""
+    return any(w in key.lower() for w in REJECTION_WORDS)
+
+
 @dataclasses.dataclass
 class Poses:
     """Stamped poses T_cones_camera; ``cov`` is the ROS 6x6 covariance (None for the truth)."""
@@ -130,12 +135,18 @@ def recording_from_messages(messages: Iterable[Tuple[str, object]]) -> Recording
         pose_rejections=_pose_rejections(dets))
 
 
+def bag_messages(path: str, topics=TOPICS):
+    """(topic, message) pairs of a bag in time order, on these topics with or without a leading '/'."""
+    import rosbag  # only here: the rest of the module works without ROS's Python packages
+    names = {t.lstrip("/") for t in topics}
+    with rosbag.Bag(path) as bag:
+        for topic, msg, _ in bag.read_messages(topics=list(names | {"/" + t for t in names})):
+            yield topic, msg
+
+
 def load_bag(path: str, topics=TOPICS) -> Recording:
     """Reads a bag (e.g. from launch/replay.launch record:=PATH) into a Recording."""
-    import rosbag  # only here: the rest of the module works without ROS's Python packages
-    wanted = set(topics) | {t.lstrip("/") for t in topics} | {"/" + t.lstrip("/") for t in topics}
-    with rosbag.Bag(path) as bag:
-        return recording_from_messages((topic, msg) for topic, msg, _ in bag.read_messages(topics=list(wanted)))
+    return recording_from_messages(bag_messages(path, topics))
 
 
 def message_types():
@@ -163,16 +174,19 @@ class Recorder:
         import rospy
         self._lock = threading.Lock()
         self._messages: List[Tuple[str, object]] = []
+        self._counts: Dict[str, int] = {}  # per topic without the leading '/': count() is polled
         self._subs = [rospy.Subscriber(topic, cls, self._callback, callback_args=topic, queue_size=queue_size)
                       for topic, cls in message_types().items()]
 
     def _callback(self, msg, topic):
         with self._lock:
             self._messages.append((topic, msg))
+            key = topic.lstrip("/")
+            self._counts[key] = self._counts.get(key, 0) + 1
 
     def count(self, topic):
         with self._lock:
-            return sum(1 for t, _ in self._messages if t.lstrip("/") == topic.lstrip("/"))
+            return self._counts.get(topic.lstrip("/"), 0)
 
     def unregister(self):
         for s in self._subs:
@@ -264,7 +278,7 @@ def _rate(t):
     return float((len(t) - 1) / (t[-1] - t[0])) if len(t) > 1 and t[-1] > t[0] else 0.0
 
 
-def _rms(x):
+def rms(x):
     return float(np.sqrt(np.mean(np.square(x)))) if len(x) else float("nan")
 
 
@@ -314,7 +328,7 @@ def evaluate(rec: Recording, model_points=DEFAULT_MODEL_POINTS, settle_s=1.0, ma
     rejections = dict(rec.pose_rejections)
     for name, values in rec.diagnostics.items():
         for key, value in values.items():
-            if any(w in key.lower() for w in REJECTION_WORDS):
+            if is_rejection_key(key):
                 try:
                     rejections["%s: %s" % (name, key)] = float(value)
                 except ValueError:
@@ -327,14 +341,14 @@ def evaluate(rec: Recording, model_points=DEFAULT_MODEL_POINTS, settle_s=1.0, ma
     inside3 = np.all(np.abs(ekf.rot_error_deg[m]) <= ekf.sigma3_rot_deg[m], axis=1) \
         if ekf.sigma3_rot_deg is not None and m.any() else np.zeros(0)
     summary = {
-        "orientation_rms_deg": _rms(ekf.orientation_error_deg[m]),
+        "orientation_rms_deg": rms(ekf.orientation_error_deg[m]),
         "orientation_max_deg": float(ekf.orientation_error_deg[m].max()) if m.any() else float("nan"),
-        "position_rms_m": _rms(ekf.position_error_m[m]),
+        "position_rms_m": rms(ekf.position_error_m[m]),
         "position_max_m": float(ekf.position_error_m[m].max()) if m.any() else float("nan"),
-        "tracker_orientation_rms_deg": _rms(trk.orientation_error_deg),
-        "tracker_position_rms_m": _rms(trk.position_error_m),
+        "tracker_orientation_rms_deg": rms(trk.orientation_error_deg),
+        "tracker_position_rms_m": rms(trk.position_error_m),
         "orientation_within_3sigma": float(inside3.mean()) if len(inside3) else float("nan"),
-        "overlay_rms_px": _rms(ov_px[mo]),
+        "overlay_rms_px": rms(ov_px[mo]),
         "overlay_median_px": float(np.median(ov_px[mo])) if mo.any() else float("nan"),
         "overlay_p95_px": float(np.percentile(ov_px[mo], 95)) if mo.any() else float("nan"),
         "overlay_max_px": float(ov_px[mo].max()) if mo.any() else float("nan"),

@@ -7,7 +7,6 @@ rejection happened (from each cone_tracker/detections message's reasons, and fro
 a rejection counter in /diagnostics), and the rate of the overlay images.
 """
 import numpy as np
-import rosbag
 from ar_bringup import evaluation
 
 from .summary import PoseErrors, RunSummary
@@ -21,40 +20,43 @@ RATES = {"camera": ("camera/camera_info", 30.0), "imu": ("imu/data_raw", 100.0),
          "ekf_pose": ("pose_ekf/pose", 100.0)}
 
 
-def _is_rejection(key):
-    return any(w in key.lower() for w in evaluation.REJECTION_WORDS)
+def read_run(bag_path):
+    """One pass over the run bag -> ((topic, message) pairs of evaluation.TOPICS, overlay image stamps)."""
+    messages, overlay = [], []
+    for topic, msg in evaluation.bag_messages(bag_path, evaluation.TOPICS + (OVERLAY,)):
+        if topic.lstrip("/") == OVERLAY:
+            overlay.append(msg.header.stamp.to_sec())
+        else:
+            messages.append((topic, msg))
+    return messages, np.sort(overlay)
 
 
-def rejection_events(bag_path, t0):
-    """{name: times [s]} from the bag's detections (per frame) and diagnostics (counter increases
-    after the first message)."""
+def rejection_events(messages, t0):
+    """{name: times [s]} from the run's detections (per frame) and diagnostics (counter increases
+    after the first message); messages: (topic, message) pairs in bag order."""
     events, last = {}, {}
-    with rosbag.Bag(bag_path) as bag:
-        topics = [DETECTIONS, "/" + DETECTIONS, "/diagnostics", "diagnostics"]
-        for topic, msg, _ in bag.read_messages(topics=topics):
-            t = msg.header.stamp.to_sec() - t0
-            if topic.lstrip("/") == DETECTIONS:
-                for reason in getattr(msg, "pose_rejected_by_names", []):
-                    events.setdefault("%s: %s" % (DETECTIONS, reason), []).append(t)
-                continue
-            for status in msg.status:
-                for kv in status.values:
-                    if not _is_rejection(kv.key):
-                        continue
-                    try:
-                        count = int(float(kv.value))
-                    except ValueError:
-                        continue
-                    name = "%s: %s" % (status.name, kv.key)
-                    # The first value is the baseline: a bag cut from a longer run starts mid-count.
-                    events.setdefault(name, []).extend([t] * max(0, count - last.get(name, count)))
-                    last[name] = count
+    for topic, msg in messages:
+        topic = topic.lstrip("/")
+        if topic not in (DETECTIONS, "diagnostics"):
+            continue
+        t = msg.header.stamp.to_sec() - t0
+        if topic == DETECTIONS:
+            for reason in getattr(msg, "pose_rejected_by_names", []):
+                events.setdefault("%s: %s" % (DETECTIONS, reason), []).append(t)
+            continue
+        for status in msg.status:
+            for kv in status.values:
+                if not evaluation.is_rejection_key(kv.key):
+                    continue
+                try:
+                    count = int(float(kv.value))
+                except ValueError:
+                    continue
+                name = "%s: %s" % (status.name, kv.key)
+                # The first value is the baseline: a bag cut from a longer run starts mid-count.
+                events.setdefault(name, []).extend([t] * max(0, count - last.get(name, count)))
+                last[name] = count
     return {k: np.array(v) for k, v in events.items()}
-
-
-def overlay_stamps(bag_path):
-    with rosbag.Bag(bag_path) as bag:
-        return np.sort([m.header.stamp.to_sec() for _, m, _ in bag.read_messages(topics=[OVERLAY, "/" + OVERLAY])])
 
 
 def _errors(e, t0):
@@ -67,7 +69,8 @@ def _errors(e, t0):
 
 def summarize(run_bag, truth_bag=None, name=None):
     """-> (RunSummary, t0): t0 is the stamp that the summary's times count from (the first truth)."""
-    rec = evaluation.load_bag(run_bag)
+    messages, frames = read_run(run_bag)
+    rec = evaluation.recording_from_messages(messages)
     if not len(rec.truth) and truth_bag:
         rec.truth = evaluation.load_bag(truth_bag, topics=("rig_sim/ground_truth",)).truth
     summary = RunSummary()
@@ -89,11 +92,10 @@ def summarize(run_bag, truth_bag=None, name=None):
         summary.notes.append("no %s with %d cones: the periods shown are those with tracker poses"
                              % (DETECTIONS, MIN_VISIBLE_CONES))
     summary.overlay_t_s, summary.overlay_err_px = ev.overlay_t - t0, ev.overlay_error_px
-    summary.gates = rejection_events(run_bag, t0)
+    summary.gates = rejection_events(messages, t0)
     summary.rejection_totals = dict(ev.rejections)
     summary.evaluation = dict(ev.summary)
     summary.rates = [(RATES[k][0], hz, RATES[k][1]) for k, hz in ev.rates_hz.items() if k in RATES]
-    frames = overlay_stamps(run_bag)
     if frames.size > 1:
         summary.rates.append((OVERLAY, (frames.size - 1) / (frames[-1] - frames[0]), 30.0))
     return summary, t0

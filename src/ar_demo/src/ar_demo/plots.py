@@ -20,6 +20,21 @@ def _shade_visible(ax, visible):
                    label="cones visible" if i == 0 else None)
 
 
+def _time_strip(visible):
+    """One wide, short time plot with the visible periods shaded and a grid."""
+    fig, ax = plt.subplots(figsize=(11, 3.5))
+    _shade_visible(ax, visible)
+    ax.set_xlabel("time [s]")
+    ax.grid(alpha=0.3)
+    return fig, ax
+
+
+def _save(fig, path):
+    fig.tight_layout()
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+
+
 def pose_error(path, t_s, pos_err_m, pos_3sigma_m, rot_err_rad, rot_3sigma_rad, visible=(),
                title="EKF pose error against ground truth"):
     """Six panels: x, y, z position error (mm) and rotation error about x, y, z (deg), each with
@@ -42,9 +57,7 @@ def pose_error(path, t_s, pos_err_m, pos_3sigma_m, rot_err_rad, rot_3sigma_rad, 
         ax.set_xlabel("time [s]")
     axes[0, 0].legend(loc="upper right", fontsize=7)
     fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
+    _save(fig, path)
 
 
 def _robust_limits(err, sig):
@@ -80,32 +93,24 @@ def error_norms(path, t_s, pos_err_m, rot_err_rad, visible=(), tracker=None, out
     axes[1].set_xlabel("time [s]")
     axes[0].legend(loc="upper right", fontsize=8)
     fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
+    _save(fig, path)
 
 
 def overlay_error(path, t_s, err_px, visible=(), title="Overlay error (model points, pixels)"):
-    fig, ax = plt.subplots(figsize=(11, 3.5))
-    _shade_visible(ax, visible)
+    fig, ax = _time_strip(visible)
     ax.plot(t_s, err_px, color="#8e44ad", lw=1.0, label="overlay error")
-    ax.set_xlabel("time [s]")
     ax.set_ylabel("error [px]")
     finite = np.asarray(err_px)[np.isfinite(err_px)]
     if finite.size:
         ax.set_ylim(0, max(1.0, np.percentile(finite, 99) * 1.2))
-    ax.grid(alpha=0.3)
     ax.legend(loc="upper right", fontsize=8)
     ax.set_title(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
+    _save(fig, path)
 
 
 def gate_rejections(path, events, t_end_s, visible=(), title="Gate rejections (cumulative)"):
     """events: {gate name: array of times [s]} -> one cumulative step line per gate."""
-    fig, ax = plt.subplots(figsize=(11, 3.5))
-    _shade_visible(ax, visible)
+    fig, ax = _time_strip(visible)
     any_events = False
     for name, times in sorted(events.items()):
         times = np.sort(np.asarray(times, float))
@@ -118,15 +123,11 @@ def gate_rejections(path, events, t_end_s, visible=(), title="Gate rejections (c
     if not any_events:
         ax.text(0.5, 0.5, "no gate rejected a measurement", transform=ax.transAxes, ha="center")
     ax.set_xlim(0, t_end_s)
-    ax.set_xlabel("time [s]")
     ax.set_ylabel("rejections")
-    ax.grid(alpha=0.3)
     if any_events:
         ax.legend(loc="upper left", fontsize=8)
     ax.set_title(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
+    _save(fig, path)
 
 
 def rates(path, names, measured_hz, expected_hz, title="Message rates"):
@@ -143,6 +144,4 @@ def rates(path, names, measured_hz, expected_hz, title="Message rates"):
     ax.set_xlabel("Hz (bar: measured, black tick: expected)")
     ax.grid(axis="x", alpha=0.3)
     ax.set_title(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
+    _save(fig, path)

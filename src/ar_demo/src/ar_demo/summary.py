@@ -6,6 +6,7 @@ start of the replay; errors are estimate minus truth in the `cones` frame (rotat
 rotation vector of R_est R_truth^T, i.e. a left perturbation, as ROS's covariance is defined).
 """
 import numpy as np
+from ar_bringup.evaluation import rms
 
 VISIBLE_MARGIN_S = 0.1
 MIN_SAMPLES = 10  # fewer samples than this in a class (visible / out of view): no figure
@@ -40,11 +41,6 @@ class RunSummary:
         self.evaluation = {}  # ar_bringup.evaluation's summary figures, by name
         self.rates = []  # [(topic, measured_hz, expected_hz or None)]
         self.notes = []  # lines the evaluation wants shown (what it could not compute, and why)
-
-
-def rms(x):
-    x = np.asarray(x, float)
-    return float(np.sqrt(np.mean(x * x))) if x.size else float("nan")
 
 
 def in_periods(t_s, periods):

@@ -8,25 +8,24 @@ import os
 
 import cv2
 import numpy as np
+from cv_bridge import CvBridge, CvBridgeError
 
 # Small bags (256x192) are scaled up so the video is watchable; H.264 needs even sizes.
 MIN_VIDEO_WIDTH_PX = 480
 
 
+_BRIDGE = CvBridge()
+
+
 def image_to_bgr(msg):
-    """sensor_msgs/Image (rgb8, bgr8, rgba8, bgra8, mono8) -> HxWx3 uint8 BGR, or None."""
-    channels = {"rgb8": 3, "bgr8": 3, "rgba8": 4, "bgra8": 4, "mono8": 1}.get(msg.encoding)
-    if channels is None or msg.height == 0 or msg.width == 0:
+    """sensor_msgs/Image -> HxWx3 uint8 BGR (cv_bridge), or None for an empty frame or an encoding
+    cv_bridge cannot turn into bgr8."""
+    if msg.height == 0 or msg.width == 0:
         return None
-    row = np.frombuffer(msg.data, np.uint8).reshape(msg.height, msg.step)
-    img = row[:, : msg.width * channels].reshape(msg.height, msg.width, channels)
-    code = {
-        "rgb8": cv2.COLOR_RGB2BGR,
-        "rgba8": cv2.COLOR_RGBA2BGR,
-        "bgra8": cv2.COLOR_BGRA2BGR,
-        "mono8": cv2.COLOR_GRAY2BGR,
-    }.get(msg.encoding)
-    return cv2.cvtColor(img, code) if code is not None else img.copy()
+    try:
+        return _BRIDGE.imgmsg_to_cv2(msg, desired_encoding="bgr8")
+    except CvBridgeError:
+        return None
 
 
 def _scaled(img, scale):
@@ -55,7 +54,7 @@ class VideoResult:
         self.fps = 0.0  # the frames' own rate, from their stamps
         self.size = (0, 0)
         self.sheet = None
-        self.skipped = 0  # frames with an encoding this module does not read
+        self.skipped = 0  # empty frames, or an encoding cv_bridge cannot turn into bgr8
 
 
 def write_video(frames, out_dir, name="overlay", caption=None, sheet_times=(), fps=30.0):
