@@ -13,6 +13,7 @@
 #include <pluginlib/class_list_macros.hpp>
 
 #include <algorithm>
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <set>
@@ -25,6 +26,9 @@
 namespace cone_tracker {
 
 namespace {
+// dynamic_reconfigure's peak_refinement enum (ConeTracker.cfg): value = index.
+constexpr PeakRefinement kRefinements[] = {PeakRefinement::kOutline, PeakRefinement::kTemplates, PeakRefinement::kNone};
+
 struct RunningStat {
   double last = 0, max = 0, sum = 0;
   uint64_t n = 0;
@@ -124,9 +128,8 @@ void ConeTrackerNodelet::onInit() {
   current.min_axis_ratio = s.min_axis_ratio, current.max_axis_ratio = s.max_axis_ratio;
   current.max_tilt_deg = s.max_tilt_deg;
   current.merge_lateral_frac = s.merge_lateral_frac, current.merge_gap_frac = s.merge_gap_frac;
-  current.peak_refinement = int(s.refinement == PeakRefinement::kOutline     ? 0
-                                : s.refinement == PeakRefinement::kTemplates ? 1
-                                                                             : 2);
+  current.peak_refinement =
+      int(std::find(std::begin(kRefinements), std::end(kRefinements), s.refinement) - std::begin(kRefinements));
   current.reject_bad_outline = s.reject_bad_outline;
   const ConePoseConfig& p = config.pose;
   current.sigma_px = p.sigma_px, current.max_assignment_px = p.max_assignment_px;
@@ -154,9 +157,7 @@ void ConeTrackerNodelet::OnReconfigure(ConeTrackerConfig& cfg, uint32_t /*level*
   s.min_solidity = cfg.min_solidity, s.max_solidity = cfg.max_solidity;
   s.min_axis_ratio = cfg.min_axis_ratio, s.max_axis_ratio = cfg.max_axis_ratio, s.max_tilt_deg = cfg.max_tilt_deg;
   s.merge_lateral_frac = cfg.merge_lateral_frac, s.merge_gap_frac = cfg.merge_gap_frac;
-  static const PeakRefinement kRefinements[] = {PeakRefinement::kOutline, PeakRefinement::kTemplates,
-                                                PeakRefinement::kNone};
-  s.refinement = kRefinements[std::clamp(cfg.peak_refinement, 0, 2)];
+  s.refinement = kRefinements[std::clamp(cfg.peak_refinement, 0, int(std::size(kRefinements)) - 1)];
   s.reject_bad_outline = cfg.reject_bad_outline;
   ConePoseConfig& p = c.pose;
   p.sigma_px = cfg.sigma_px, p.max_assignment_px = cfg.max_assignment_px, p.chi2_probability = cfg.chi2_probability;
