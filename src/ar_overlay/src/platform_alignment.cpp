@@ -49,11 +49,11 @@ bool GridHomography(const std::vector<cv::Point2d>& blue, int n, cv::Matx33d* H_
   for (size_t i : keep) corners.push_back(hull[i]);
   const float last = static_cast<float>(n - 1);
   const std::vector<cv::Point2f> grid_corners = {{0, 0}, {last, 0}, {last, last}, {0, last}};
-  const cv::Matx33d guess = cv::getPerspectiveTransform(grid_corners, corners);
+  const cv::Matx33d guess_grid_image = cv::Matx33d(cv::getPerspectiveTransform(grid_corners, corners)).inv();
   std::vector<cv::Point2d> grid, image;
   std::vector<char> taken(static_cast<size_t>(n * n), 0);
   for (const cv::Point2d& p : blue) {
-    const cv::Point2d g = Apply(guess.inv(), p);
+    const cv::Point2d g = Apply(guess_grid_image, p);
     const int c = static_cast<int>(std::lround(g.x)), r = static_cast<int>(std::lround(g.y));
     if (c < 0 || r < 0 || c >= n || r >= n || taken[static_cast<size_t>(r * n + c)]++) return false;
     grid.emplace_back(c, r);

@@ -79,12 +79,15 @@ std::vector<uint8_t> EncodeResolutionPayload(float gyro_range_deg_s, float accel
 }
 
 std::string CheckDeviceInfo(const DeviceInfo& info, double rate_hz) {
+  const bool rate_differs = info.have_settings && std::abs(info.output_rate_hz - rate_hz) > 0.01 * rate_hz;
+  const bool ranges_differ = info.have_resolution && (std::abs(info.gyro_range_deg_s - kAssumedGyroRangeDegS) > 0.5 ||
+                                                      std::abs(info.accel_range_g - kAssumedAccelRangeG) > 0.05);
+  if (!rate_differs && !ranges_differ) return "";  // the serial reader asks after every read: no stream then
   std::ostringstream why;
-  if (info.have_settings && std::abs(info.output_rate_hz - rate_hz) > 0.01 * rate_hz) {
+  if (rate_differs) {
     why << "the IMU reports " << info.output_rate_hz << " Hz but rate_hz is " << rate_hz << "; ";
   }
-  if (info.have_resolution && (std::abs(info.gyro_range_deg_s - kAssumedGyroRangeDegS) > 0.5 ||
-                               std::abs(info.accel_range_g - kAssumedAccelRangeG) > 0.05)) {
+  if (ranges_differ) {
     why << "the IMU reports ranges +-" << info.gyro_range_deg_s << " deg/s, +-" << info.accel_range_g
         << " g; the driver's scale assumes +-300 deg/s, +-10 g; ";
   }

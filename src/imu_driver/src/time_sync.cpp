@@ -3,11 +3,21 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 namespace imu_driver {
 namespace {
 // Windows needed before the slope beats the jitter of a single minimum.
 constexpr size_t kMinWindowsForFit = 3;
+
+// Formats a reset reason. Only called on a reset: Update runs for every sample,
+// and a stream per sample would allocate each time.
+template <typename... Args>
+std::string Reason(const Args&... args) {
+  std::ostringstream s;
+  (s << ... << args);
+  return s.str();
+}
 }  // namespace
 
 TimeSync::TimeSync(const TimeSyncConfig& config) : config_(config) {}
@@ -43,22 +53,22 @@ double TimeSync::Update(double device_s, double arrival_s) {
   }
   const double dt = device_s - last_device_s_;
   const double predicted = offset_s_ + skew_ * dt;
-  std::ostringstream why;
+  std::string why;
   if (dt <= 0.0) {
-    why << "device time did not increase (" << dt << " s)";
+    why = Reason("device time did not increase (", dt, " s)");
   } else if (observation_s < predicted - config_.jump_threshold_s) {
-    why << "arrival " << (predicted - observation_s) << " s earlier than the clock model";
+    why = Reason("arrival ", predicted - observation_s, " s earlier than the clock model");
   } else if (observation_s > predicted + config_.jump_threshold_s) {
     if (high_since_s_ < 0.0) high_since_s_ = device_s;
     if (device_s - high_since_s_ > config_.max_high_s) {
-      why << "arrivals later than the clock model by > " << config_.jump_threshold_s << " s for " << config_.max_high_s
-          << " s";
+      why = Reason("arrivals later than the clock model by > ", config_.jump_threshold_s, " s for ", config_.max_high_s,
+                   " s");
     }
   } else {
     high_since_s_ = -1.0;
   }
-  if (!why.str().empty()) {
-    reset_reason_ = why.str();
+  if (!why.empty()) {
+    reset_reason_ = std::move(why);
     ++resets_;
     Start(device_s, observation_s);
     return device_s + offset_s_;

@@ -47,10 +47,7 @@ void EkfCore::SetConfig(const EkfConfig& config) {
 }
 
 bool EkfCore::Initialize(const CameraMeasurement& m) {
-  if (!m.T_cones_camera.q.allFinite() || !m.T_cones_camera.t.allFinite() || !m.cov.allFinite() ||
-      m.T_cones_camera.q.norm() < 1e-6 || !std::isfinite(m.stamp_s)) {
-    return false;
-  }
+  if (!PoseUsable(m) || !std::isfinite(m.stamp_s)) return false;
   const int n = StateSize(config_);
   s_.stamp_s = m.stamp_s;
   s_.x = StateVector::Zero(n);
@@ -150,10 +147,7 @@ UpdateResult EkfCore::Update(const Eigen::Matrix<double, M, 1>& residual,
 
 UpdateResult EkfCore::UpdateCamera(const CameraMeasurement& m, double* nis) {
   if (!config_.use_camera) return UpdateResult::kDisabled;
-  if (!m.T_cones_camera.q.allFinite() || !m.T_cones_camera.t.allFinite() || !m.cov.allFinite() ||
-      m.T_cones_camera.q.norm() < 1e-6) {
-    return UpdateResult::kRejectedNonFinite;
-  }
+  if (!PoseUsable(m)) return UpdateResult::kRejectedNonFinite;
   const int n = static_cast<int>(s_.x.size());
   Eigen::Vector4d z_q = m.T_cones_camera.q.normalized();
   const Eigen::Vector4d q_pred = s_.x.segment<4>(kQ);

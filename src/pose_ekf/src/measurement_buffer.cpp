@@ -6,10 +6,7 @@
 namespace pose_ekf {
 namespace {
 
-bool Finite(const CameraMeasurement& m) {
-  return std::isfinite(m.stamp_s) && m.T_cones_camera.q.allFinite() && m.T_cones_camera.t.allFinite() &&
-         m.cov.allFinite() && m.T_cones_camera.q.norm() > 1e-6;
-}
+bool Finite(const CameraMeasurement& m) { return std::isfinite(m.stamp_s) && PoseUsable(m); }
 
 bool Finite(const ImuMeasurement& m) {
   return std::isfinite(m.stamp_s) && (!m.has_gyro || m.omega_camera_rad_s.allFinite()) &&

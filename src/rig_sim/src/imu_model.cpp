@@ -1,6 +1,7 @@
 #include "rig_sim/imu_model.h"
 
 #include "imu_driver/crista_protocol.h"
+#include "pose_math/rotation.h"
 
 #include <cmath>
 #include <sstream>
@@ -32,12 +33,8 @@ Eigen::Matrix3d ImuConfig::R_camera_imu() const {
   nominal << 0, -1, 0,  //
       0, 0, -1,         //
       1, 0, 0;
-  const Eigen::Vector3d e = mount_error_rpy_deg * kDeg;
-  const Eigen::Matrix3d error =
-      (Eigen::AngleAxisd(e.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(e.y(), Eigen::Vector3d::UnitY()) *
-       Eigen::AngleAxisd(e.x(), Eigen::Vector3d::UnitX()))
-          .toRotationMatrix();
-  return nominal * error;
+  const Eigen::Vector3d e = mount_error_rpy_deg * kDeg;  // fixed-axis roll, pitch, yaw = Rz Ry Rx (2.19)
+  return nominal * pose_math::RotationFromEulerZyx(pose_math::EulerZyx{e.z(), e.y(), e.x(), false});
 }
 
 std::string ImuConfig::Validate() const {

@@ -106,6 +106,26 @@ bool OnDecal(const Prim& p, double x, double y) {
   return std::fabs(lx) <= p.half_size.x() && std::fabs(ly) <= p.half_size.y();
 }
 
+namespace {
+
+// A box or ground decal turned by yaw about the vertical through its centre.
+Prim YawedPrim(PrimKind kind, int16_t label, const Eigen::Vector3d& center, double yaw_rad,
+               const Eigen::Vector3d& half_size, const Eigen::Vector3d& albedo) {
+  Prim p;
+  p.kind = kind;
+  p.label = label;
+  p.origin = center;
+  p.cos_yaw = std::cos(yaw_rad);
+  p.sin_yaw = std::sin(yaw_rad);
+  p.half_size = half_size;
+  p.albedo = albedo.cast<float>();
+  p.sphere_center = center;
+  p.sphere_radius = half_size.norm() * 1.001;
+  return p;
+}
+
+}  // namespace
+
 std::vector<Prim> BuildPrims(const Scene& scene) {
   std::vector<Prim> prims;
   for (size_t i = 0; i < scene.cones.size(); ++i) {
@@ -137,46 +157,18 @@ std::vector<Prim> BuildPrims(const Scene& scene) {
     p.sphere_radius = 0.75 * c.base_plate_m;
     prims.push_back(p);
   }
-  for (const BoxSpec& b : scene.boxes) {
-    Prim p;
-    p.kind = PrimKind::kBox;
-    p.label = label++;
-    p.origin = b.center_m;
-    p.cos_yaw = std::cos(b.yaw_rad);
-    p.sin_yaw = std::sin(b.yaw_rad);
-    p.half_size = 0.5 * b.size_m;
-    p.albedo = b.albedo.cast<float>();
-    p.sphere_center = b.center_m;
-    p.sphere_radius = p.half_size.norm() * 1.001;
-    prims.push_back(p);
-  }
+  for (const BoxSpec& b : scene.boxes)
+    prims.push_back(YawedPrim(PrimKind::kBox, label++, b.center_m, b.yaw_rad, 0.5 * b.size_m, b.albedo));
   for (size_t i = 0; i < scene.platforms.size(); ++i) {
     const PlatformSpec& b = scene.platforms[i];
-    Prim p;
-    p.kind = PrimKind::kBox;
-    p.label = label++;
-    p.platform_index = static_cast<int>(i);
-    p.origin = Eigen::Vector3d(b.center_m.x(), b.center_m.y(), 0.5 * b.size_m.z());
-    p.cos_yaw = std::cos(b.yaw_rad);
-    p.sin_yaw = std::sin(b.yaw_rad);
-    p.half_size = 0.5 * b.size_m;
-    p.albedo = b.albedo.cast<float>();
-    p.sphere_center = p.origin;
-    p.sphere_radius = p.half_size.norm() * 1.001;
-    prims.push_back(p);
+    const Eigen::Vector3d center(b.center_m.x(), b.center_m.y(), 0.5 * b.size_m.z());
+    prims.push_back(YawedPrim(PrimKind::kBox, label++, center, b.yaw_rad, 0.5 * b.size_m, b.albedo));
+    prims.back().platform_index = static_cast<int>(i);
   }
   for (const PatchSpec& s : scene.patches) {
-    Prim p;
-    p.kind = PrimKind::kDecal;
-    p.label = label++;
-    p.origin = Eigen::Vector3d(s.center_m.x(), s.center_m.y(), 0.0);
-    p.cos_yaw = std::cos(s.yaw_rad);
-    p.sin_yaw = std::sin(s.yaw_rad);
-    p.half_size = Eigen::Vector3d(0.5 * s.size_m.x(), 0.5 * s.size_m.y(), 0.0);
-    p.albedo = s.albedo.cast<float>();
-    p.sphere_center = p.origin;
-    p.sphere_radius = p.half_size.norm() * 1.001;
-    prims.push_back(p);
+    const Eigen::Vector3d center(s.center_m.x(), s.center_m.y(), 0.0);
+    const Eigen::Vector3d half_size(0.5 * s.size_m.x(), 0.5 * s.size_m.y(), 0.0);
+    prims.push_back(YawedPrim(PrimKind::kDecal, label++, center, s.yaw_rad, half_size, s.albedo));
   }
   for (const PersonSpec& s : scene.people) {
     Prim p;

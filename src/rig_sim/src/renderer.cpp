@@ -85,18 +85,18 @@ struct Renderer::Impl {
     for (auto& n : noise) n = static_cast<int8_t>(std::clamp(std::lround(normal(rng)), -127l, 127l));
   }
 
-  // Per tile, the primitives whose bounding sphere may meet one of its rays.
-  std::vector<std::vector<const Prim*>> CullTiles(const TruePose& pose) const {
-    std::vector<std::vector<const Prim*>> lists(tiles_x * tiles_y);
+  // Per tile in [first, end), the primitives whose bounding sphere may meet one of its rays.
+  std::vector<std::vector<const Prim*>> CullTiles(const TruePose& pose, int first, int end) const {
+    std::vector<std::vector<const Prim*>> lists(end - first);
     for (const Prim& p : prims) {
       const Eigen::Vector3d q = pose.R_cones_camera.transpose() * (p.sphere_center - pose.p_camera_in_cones_m);
       const double dist = q.norm();
       const bool inside = dist <= p.sphere_radius;
       const double gamma = inside ? kPi : std::asin(p.sphere_radius / dist);
       const Eigen::Vector3d qn = inside ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d(q / dist);
-      for (int i = 0; i < tiles_x * tiles_y; ++i) {
+      for (int i = first; i < end; ++i) {
         const double angle = std::acos(std::clamp(qn.dot(tile_axis[i]), -1.0, 1.0));
-        if (!config.tile_culling || inside || angle <= tile_half_angle[i] + gamma) lists[i].push_back(&p);
+        if (!config.tile_culling || inside || angle <= tile_half_angle[i] + gamma) lists[i - first].push_back(&p);
       }
     }
     return lists;
@@ -195,7 +195,7 @@ int Renderer::height() const { return impl_->height; }
 
 void Renderer::Render(const TruePose& pose, double t_s, uint64_t frame_index, uint8_t* rgb, int16_t* labels) const {
   const Impl& m = *impl_;
-  const auto lists = m.CullTiles(pose);
+  const auto lists = m.CullTiles(pose, 0, m.tiles_x * m.tiles_y);
   const Lighting light = m.materials.LightingAt(t_s);
   const uint32_t noise_offset = static_cast<uint32_t>(SplitMix64(m.config.seed * 0x100000001B3ull + frame_index));
   std::atomic<int> next_row{0};
@@ -214,10 +214,11 @@ RayHit Renderer::TracePixel(const TruePose& pose, int u, int v) const {
   const Impl& m = *impl_;
   RayHit out;
   if (u < 0 || v < 0 || u >= m.width || v >= m.height) return out;
-  const auto lists = m.CullTiles(pose);
+  const int tile = (v / kTile) * m.tiles_x + u / kTile;
+  const auto lists = m.CullTiles(pose, tile, tile + 1);  // only the pixel's tile, the same list Render uses
   const Eigen::Vector3d d = pose.R_cones_camera * m.rays[static_cast<size_t>(v) * m.width + u];
   const Prim* decal = nullptr;  // the same Trace as ShadePixel
-  const Hit hit = m.Trace(pose, d, lists[(v / kTile) * m.tiles_x + u / kTile], &decal);
+  const Hit hit = m.Trace(pose, d, lists[0], &decal);
   if (hit.prim)
     out.label = hit.prim->label;
   else if (d.z() < 0.0)

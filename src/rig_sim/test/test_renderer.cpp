@@ -36,15 +36,20 @@ double ConeMargin(const ConeSpec& c, const Eigen::Vector3d& o, const Eigen::Vect
   return best;
 }
 
-}  // namespace
-
-TEST(Renderer, HitPointsOfConePixelsReprojectWithinOneHundredthPixel) {
+// The handheld scenario's frame at t = 4 s and what drew it, for the geometry tests.
+class RendererHandheldFrame : public ::testing::Test {
+ protected:
   const Scenario s = TestScenario("handheld", 2, 5, 0.25);
-  const Trajectory traj(s.trajectory);
-  const CameraModel cam(s.camera);
-  const Renderer r(cam, s.scene, s.render);
+  const Trajectory traj{s.trajectory};
+  const CameraModel cam{s.camera};
+  const Renderer r{cam, s.scene, s.render};
   const TruePose pose = traj.At(4.0);
   const Frame f = RenderAt(r, pose, 4.0, 0);
+};
+
+}  // namespace
+
+TEST_F(RendererHandheldFrame, HitPointsOfConePixelsReprojectWithinOneHundredthPixel) {
   int cone_pixels = 0;
   double worst = 0.0;
   for (int v = 0; v < r.height(); ++v)
@@ -62,13 +67,7 @@ TEST(Renderer, HitPointsOfConePixelsReprojectWithinOneHundredthPixel) {
   EXPECT_LT(worst, 0.01);
 }
 
-TEST(Renderer, ConeModelPointsLandOnTheirConeAndSilhouettesAreExact) {
-  const Scenario s = TestScenario("handheld", 2, 5, 0.25);
-  const Trajectory traj(s.trajectory);
-  const CameraModel cam(s.camera);
-  const Renderer r(cam, s.scene, s.render);
-  const TruePose pose = traj.At(4.0);
-  const Frame f = RenderAt(r, pose, 4.0, 0);
+TEST_F(RendererHandheldFrame, ConeModelPointsLandOnTheirConeAndSilhouettesAreExact) {
   // Model points (3.12) moved onto the visible surface (3.18): their distorted
   // projections fall on pixels the renderer labels as that cone.
   for (size_t i = 0; i < s.scene.cones.size(); ++i) {

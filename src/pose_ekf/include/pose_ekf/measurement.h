@@ -15,6 +15,14 @@ struct CameraMeasurement {
   pose_math::Matrix7d cov = pose_math::Matrix7d::Zero();
 };
 
+// A camera pose the filter can use: finite pose and covariance, and a quaternion
+// that can be normalised. Checked by the buffer and again by EkfCore, which may
+// be driven directly.
+inline bool PoseUsable(const CameraMeasurement& m) {
+  return m.T_cones_camera.q.allFinite() && m.T_cones_camera.t.allFinite() && m.cov.allFinite() &&
+         m.T_cones_camera.q.norm() > 1e-6;
+}
+
 // One IMU sample already rotated into the camera frame {C} (the camera-IMU
 // rotation of 3.2.2 is applied by the adapter). Accelerometer: specific force,
 // +g upwards at rest (REP-145), which is the thesis's C z_acl (5.30).

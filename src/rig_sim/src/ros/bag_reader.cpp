@@ -3,6 +3,8 @@
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 
+#include <utility>
+
 namespace rig_sim {
 namespace {
 
@@ -25,9 +27,11 @@ bool ReadBagContents(const std::string& path, const TopicNames& topics, BagConte
     c.image_topic = topics.image;
     c.info_topic = topics.camera_info;
     c.truth_topic = topics.truth;
+    const std::string imu = Strip(topics.imu), image = Strip(topics.image), info = Strip(topics.camera_info),
+                      truth = Strip(topics.truth);
     for (const rosbag::MessageInstance& m : view) {
       const std::string topic = Strip(m.getTopic());
-      if (topic == Strip(topics.imu)) {
+      if (topic == imu) {
         const auto msg = m.instantiate<sensor_msgs::Imu>();
         if (!msg) continue;
         ImuRecord r;
@@ -38,7 +42,7 @@ bool ReadBagContents(const std::string& path, const TopicNames& topics, BagConte
         r.orientation_covariance0 = msg->orientation_covariance[0];
         r.frame = msg->header.frame_id;
         c.imu.push_back(r);
-      } else if (topic == Strip(topics.image)) {
+      } else if (topic == image) {
         const auto msg = m.instantiate<sensor_msgs::Image>();
         if (!msg) continue;
         ImageRecord r;
@@ -50,7 +54,7 @@ bool ReadBagContents(const std::string& path, const TopicNames& topics, BagConte
         r.frame = msg->header.frame_id;
         r.data_size = msg->data.size();
         c.images.push_back(r);
-      } else if (topic == Strip(topics.camera_info)) {
+      } else if (topic == info) {
         const auto msg = m.instantiate<sensor_msgs::CameraInfo>();
         if (!msg) continue;
         InfoRecord r;
@@ -63,7 +67,7 @@ bool ReadBagContents(const std::string& path, const TopicNames& topics, BagConte
         r.fx = msg->K[0];
         r.fy = msg->K[4];
         c.infos.push_back(r);
-      } else if (topic == Strip(topics.truth)) {
+      } else if (topic == truth) {
         const auto msg = m.instantiate<geometry_msgs::PoseStamped>();
         if (!msg) continue;
         TruthRecord r;
@@ -74,7 +78,7 @@ bool ReadBagContents(const std::string& path, const TopicNames& topics, BagConte
         c.truth.push_back(r);
       }
     }
-    *out = c;
+    *out = std::move(c);
     return true;
   } catch (const std::exception& e) {
     if (error) *error = "reading '" + path + "': " + e.what();

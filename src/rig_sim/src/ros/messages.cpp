@@ -7,24 +7,44 @@
 namespace rig_sim {
 namespace {
 
-void FillPose(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, geometry_msgs::Pose* pose) {
+geometry_msgs::Quaternion QuaternionMsg(const Eigen::Matrix3d& R) {
   const Eigen::Quaterniond q(R);
+  geometry_msgs::Quaternion m;
+  m.w = q.w();
+  m.x = q.x();
+  m.y = q.y();
+  m.z = q.z();
+  return m;
+}
+
+void FillPose(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, geometry_msgs::Pose* pose) {
   pose->position.x = t.x();
   pose->position.y = t.y();
   pose->position.z = t.z();
-  pose->orientation.w = q.w();
-  pose->orientation.x = q.x();
-  pose->orientation.y = q.y();
-  pose->orientation.z = q.z();
+  pose->orientation = QuaternionMsg(R);
 }
 
 void FillTransform(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, geometry_msgs::Transform* tf) {
-  geometry_msgs::Pose p;
-  FillPose(R, t, &p);
   tf->translation.x = t.x();
   tf->translation.y = t.y();
   tf->translation.z = t.z();
-  tf->rotation = p.orientation;
+  tf->rotation = QuaternionMsg(R);
+}
+
+// An Imu message with no orientation estimate (REP-145) and no covariances yet.
+sensor_msgs::Imu ImuMessage(const Eigen::Vector3d& omega, const Eigen::Vector3d& accel, const ros::Time& stamp,
+                            const std::string& frame) {
+  sensor_msgs::Imu m;
+  m.header.stamp = stamp;
+  m.header.frame_id = frame;
+  m.orientation_covariance[0] = -1.0;
+  m.angular_velocity.x = omega.x();
+  m.angular_velocity.y = omega.y();
+  m.angular_velocity.z = omega.z();
+  m.linear_acceleration.x = accel.x();
+  m.linear_acceleration.y = accel.y();
+  m.linear_acceleration.z = accel.z();
+  return m;
 }
 
 }  // namespace
@@ -68,16 +88,7 @@ ros::Time ImuMessageStamp(const ros::Time& interval_end, const ImuConfig& config
 }
 
 sensor_msgs::Imu MakeImu(const ImuSample& s, const ImuConfig& cfg, const ros::Time& stamp, const std::string& frame) {
-  sensor_msgs::Imu m;
-  m.header.stamp = stamp;
-  m.header.frame_id = frame;
-  m.orientation_covariance[0] = -1.0;  // REP-145: no orientation estimate
-  m.angular_velocity.x = s.omega_imu_rad_s.x();
-  m.angular_velocity.y = s.omega_imu_rad_s.y();
-  m.angular_velocity.z = s.omega_imu_rad_s.z();
-  m.linear_acceleration.x = s.accel_imu_m_s2.x();
-  m.linear_acceleration.y = s.accel_imu_m_s2.y();
-  m.linear_acceleration.z = s.accel_imu_m_s2.z();
+  sensor_msgs::Imu m = ImuMessage(s.omega_imu_rad_s, s.accel_imu_m_s2, stamp, frame);
   const double g = cfg.gyro_noise_deg_s * M_PI / 180.0, a = cfg.accel_noise_m_s2;
   for (int i = 0; i < 3; ++i) {
     m.angular_velocity_covariance[4 * i] = g * g;
@@ -87,17 +98,7 @@ sensor_msgs::Imu MakeImu(const ImuSample& s, const ImuConfig& cfg, const ros::Ti
 }
 
 sensor_msgs::Imu MakeImuBias(const ImuSample& s, const ros::Time& stamp, const std::string& frame) {
-  sensor_msgs::Imu m;
-  m.header.stamp = stamp;
-  m.header.frame_id = frame;
-  m.orientation_covariance[0] = -1.0;
-  m.angular_velocity.x = s.true_gyro_bias_rad_s.x();
-  m.angular_velocity.y = s.true_gyro_bias_rad_s.y();
-  m.angular_velocity.z = s.true_gyro_bias_rad_s.z();
-  m.linear_acceleration.x = s.true_accel_bias_m_s2.x();
-  m.linear_acceleration.y = s.true_accel_bias_m_s2.y();
-  m.linear_acceleration.z = s.true_accel_bias_m_s2.z();
-  return m;
+  return ImuMessage(s.true_gyro_bias_rad_s, s.true_accel_bias_m_s2, stamp, frame);
 }
 
 geometry_msgs::PoseStamped MakeTruthPose(const TruePose& pose, const ros::Time& stamp, const std::string& frame) {
