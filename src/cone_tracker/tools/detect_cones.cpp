@@ -1,7 +1,8 @@
 // detect_cones --config FILE|photos --output out.jsonl IMAGE...
 // Runs the segmentation on image files and writes one JSON line per image:
 // {"image":path, "cones":[{"bbox":[x,y,w,h], "peak":[u,v], "mid":[u,v],
-// "base":[u,v], "area":a, "solidity":s}, ...]} (or "error"). For tuning the
+// "base":[u,v], "area":a, "solidity":s}, ...], "rejected":[{"bbox":[x,y,w,h],
+// "area":a, "gates":["outline", ...]}, ...]} (or "error"). For tuning the
 // thresholds on one's own photos; no camera calibration (no undistortion).
 #include <cstdio>
 #include <fstream>
@@ -99,6 +100,13 @@ int main(int argc, char** argv) {
                                  {"base", Uv(d.base_px)},
                                  {"area", b.area},
                                  {"solidity", b.solidity}});
+      }
+      line["rejected"] = nlohmann::json::array();
+      for (const auto& d : r.rejected) {
+        const auto& b = d.blob;
+        line["rejected"].push_back({{"bbox", {b.bbox_x, b.bbox_y, b.bbox_w, b.bbox_h}},
+                                    {"area", b.area},
+                                    {"gates", cone_tracker::SegmentationGateNames(d.failed_gates)}});
       }
       found += int(r.cones.size());
     }

@@ -69,23 +69,6 @@ const char* ToString(FrameStatus s) {
   return "?";
 }
 
-std::vector<std::string> SegmentationGateNames(uint32_t bits) {
-  static const std::pair<uint32_t, const char*> kNames[] = {{kGateArea, "area"},
-                                                            {kGateBorder, "border"},
-                                                            {kGateSolidity, "solidity"},
-                                                            {kGateAxisRatio, "axis_ratio"},
-                                                            {kGateLineSearch, "line_search"},
-                                                            {kGateUndistort, "undistort"},
-                                                            {kGateTilt, "tilt"},
-                                                            {kGateOutline, "outline"}};
-  std::vector<std::string> out;
-  for (const auto& [bit, name] : kNames)
-    if (bits & bit) out.emplace_back(name), bits &= ~bit;
-  for (int i = 0; i < 32; ++i)  // a gate added to the core later still shows up
-    if (bits & (1u << i)) out.push_back("bit" + std::to_string(i));
-  return out;
-}
-
 std::vector<std::string> PoseGateNames(uint32_t bits) {
   static const std::pair<uint32_t, const char*> kNames[] = {
       {kPoseTooFewCones, "too_few_cones"}, {kPoseSolverFailed, "solver"}, {kPoseChi2, "chi2"}, {kPoseMotion, "motion"}};

@@ -336,4 +336,21 @@ bool UndistortPixels(const CameraModel& camera, std::vector<Eigen::Vector2d>* po
   return true;
 }
 
+std::vector<std::string> SegmentationGateNames(uint32_t bits) {
+  static const std::pair<uint32_t, const char*> kNames[] = {{kGateArea, "area"},
+                                                            {kGateBorder, "border"},
+                                                            {kGateSolidity, "solidity"},
+                                                            {kGateAxisRatio, "axis_ratio"},
+                                                            {kGateLineSearch, "line_search"},
+                                                            {kGateUndistort, "undistort"},
+                                                            {kGateTilt, "tilt"},
+                                                            {kGateOutline, "outline"}};
+  std::vector<std::string> out;
+  for (const auto& [bit, name] : kNames)
+    if (bits & bit) out.emplace_back(name), bits &= ~bit;
+  for (int i = 0; i < 32; ++i)  // a gate added to the core later still shows up
+    if (bits & (1u << i)) out.push_back("bit" + std::to_string(i));
+  return out;
+}
+
 }  // namespace cone_tracker

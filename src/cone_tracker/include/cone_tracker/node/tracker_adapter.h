@@ -106,8 +106,7 @@ class TrackerAdapter {
   TrackerCounters counters_;
 };
 
-// Names of the set bits of GateBits / PoseGateBits.
-std::vector<std::string> SegmentationGateNames(uint32_t bits);
+// Names of the set bits of PoseGateBits (SegmentationGateNames: GateBits).
 std::vector<std::string> PoseGateNames(uint32_t bits);
 
 }  // namespace cone_tracker

@@ -76,6 +76,9 @@ enum GateBits : uint32_t {
   kGateOutline = 1u << 7,  // the outline is not one cone's (OutlineConfig)
 };
 
+// Names of the set bits ("area", "border", ...; an unknown bit as "bitN").
+std::vector<std::string> SegmentationGateNames(uint32_t bits);
+
 struct ConeDetection {
   Blob blob;  // runs are cleared in the output to keep it small
   uint32_t failed_gates = 0;
