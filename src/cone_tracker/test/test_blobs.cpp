@@ -28,6 +28,25 @@ void Triangle(Mask* m, double cx, int top, int bottom, double base, int skip_fro
   }
 }
 
+// A cone with its apex at (ax, ay), `height` long down an axis tilted by
+// tilt_deg from the image vertical (positive: base to the left), `base` wide,
+// with white collars at the road cones' fractions of the height from the
+// apex (0.20-0.38 and 0.45-0.58) when `collared`.
+void TiltedCone(Mask* m, double ax, double ay, double height, double base, double tilt_deg, bool collared) {
+  const double t = tilt_deg * M_PI / 180.0;
+  const Eigen::Vector2d axis(-std::sin(t), std::cos(t)), across(axis.y(), -axis.x());
+  for (int y = 0; y < m->h; ++y)
+    for (int x = 0; x < m->w; ++x) {
+      const Eigen::Vector2d p = Eigen::Vector2d(x, y) - Eigen::Vector2d(ax, ay);
+      const double f = p.dot(axis) / height;
+      if (f < 0.0 || f > 1.0 || std::abs(p.dot(across)) > 0.5 * base * f) continue;
+      if (collared && ((f >= 0.20 && f < 0.38) || (f >= 0.45 && f < 0.58))) continue;
+      m->Set(x, y);
+    }
+}
+
+constexpr double kMaxTilt = 50.0 * M_PI / 180.0;
+
 }  // namespace
 
 TEST(Blobs, RectangleProperties) {
@@ -82,7 +101,7 @@ TEST(Blobs, CollarFragmentsMergeAlongTheAxisButSideBySideConesDoNot) {
   Triangle(&m, 120, 50, 150, 28);
   auto blobs = FindBlobs(m.View(), 0, 0, 200, 200, 4);
   ASSERT_EQ(blobs.size(), 4u);
-  MergeAlongAxes(&blobs, 0.25, 0.5);
+  MergeAlongAxes(&blobs, 0.25, 0.5, kMaxTilt);
   ASSERT_EQ(blobs.size(), 2u);
   for (const Blob& b : blobs) {
     EXPECT_NEAR(std::abs(b.orientation_rad), M_PI / 2.0, 0.02);
@@ -97,8 +116,48 @@ TEST(Blobs, ConeStandingBehindAnotherIsNotMerged) {
   Triangle(&m, 60, 40, 110, 20);   // far cone, seen just above the near one's peak
   auto blobs = FindBlobs(m.View(), 0, 0, 200, 260, 4);
   ASSERT_EQ(blobs.size(), 2u);
-  MergeAlongAxes(&blobs, 0.25, 0.5);
+  MergeAlongAxes(&blobs, 0.25, 0.5, kMaxTilt);
   EXPECT_EQ(blobs.size(), 2u);
+}
+
+TEST(Blobs, TiltedCollaredConeMergesIntoOne) {
+  // Lens distortion near the image edge and the rig's roll tilt cones in the
+  // image; the squat body below the collars must still find its band and tip.
+  for (double tilt : {-30.0, -15.0, 15.0, 30.0}) {
+    Mask m(200, 200);
+    TiltedCone(&m, 100, 30, 140, 56, tilt, true);
+    auto blobs = FindBlobs(m.View(), 0, 0, 200, 200, 4);
+    ASSERT_EQ(blobs.size(), 3u) << tilt;
+    MergeAlongAxes(&blobs, 0.25, 0.5, kMaxTilt);
+    ASSERT_EQ(blobs.size(), 1u) << tilt;
+    EXPECT_EQ(blobs[0].fragments, 3);
+    // The whole cone's major axis is its axis (v down: orientation -90 + tilt... folded into (-90, 90]).
+    EXPECT_NEAR(std::abs(std::cos(blobs[0].orientation_rad)), std::abs(std::sin(tilt * M_PI / 180.0)), 0.03) << tilt;
+  }
+}
+
+TEST(Blobs, TiltBeyondTheGateDoesNotMerge) {
+  Mask m(240, 240);
+  TiltedCone(&m, 60, 40, 140, 56, -70.0, true);  // lying on its side
+  auto blobs = FindBlobs(m.View(), 0, 0, 240, 240, 4);
+  const size_t before = blobs.size();
+  ASSERT_EQ(before, 3u);
+  MergeAlongAxes(&blobs, 0.25, 0.5, kMaxTilt);
+  EXPECT_EQ(blobs.size(), before);
+}
+
+TEST(Blobs, FarConeAboveACollaredConesTipStaysApart) {
+  // The near cone's three fragments join each other, nearest first, and the
+  // far cone seen just above the near one's tip keeps to itself.
+  Mask m(200, 300);
+  TiltedCone(&m, 100, 120, 170, 64, 0.0, true);  // near, collared
+  TiltedCone(&m, 100, 50, 66, 26, 0.0, false);   // far, its base 4 px above the near apex
+  auto blobs = FindBlobs(m.View(), 0, 0, 200, 300, 4);
+  ASSERT_EQ(blobs.size(), 4u);
+  MergeAlongAxes(&blobs, 0.25, 0.5, kMaxTilt);
+  ASSERT_EQ(blobs.size(), 2u);
+  EXPECT_EQ(blobs[0].fragments + blobs[1].fragments, 4);
+  for (const Blob& b : blobs) EXPECT_TRUE(b.fragments == 3 || b.bbox_y == 50) << b.fragments << " " << b.bbox_y;
 }
 
 }  // namespace cone_tracker

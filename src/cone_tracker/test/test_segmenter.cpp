@@ -32,6 +32,10 @@ double MatchRms(const SimFrame& f, const SegmentationResult& r, size_t expected)
       std::printf("cone peak %.1f %.1f base %.1f %.1f area %.0f frag %d ratio %.2f sol %.2f\n", d.peak_px.x(),
                   d.peak_px.y(), d.base_px.x(), d.base_px.y(), d.blob.area, d.blob.fragments, d.blob.axis_ratio,
                   d.blob.solidity);
+  if (r.cones.size() != expected)
+    for (const ConeDetection& d : r.rejected)
+      std::printf("rejected bbox %d %d %d %d area %.0f frag %d ratio %.2f gates 0x%x\n", d.blob.bbox_x, d.blob.bbox_y,
+                  d.blob.bbox_w, d.blob.bbox_h, d.blob.area, d.blob.fragments, d.blob.axis_ratio, d.failed_gates);
   double sum = 0.0;
   int n = 0;
   for (const TruthCone& t : f.truth) {

@@ -141,44 +141,93 @@ std::vector<Blob> FindBlobs(const MaskView& mask, int x0, int y0, int x1, int y1
   return kept;
 }
 
-void MergeAlongAxes(std::vector<Blob>* blobs, double lateral_frac, double gap_frac) {
-  bool merged = true;
-  while (merged) {
-    merged = false;
-    std::sort(blobs->begin(), blobs->end(), [](const Blob& a, const Blob& b) { return a.area > b.area; });
-    for (size_t i = 0; i < blobs->size() && !merged; ++i) {
-      Blob& big = (*blobs)[i];
-      // A cone's body below its collars is squat (its base arc makes it
-      // nearly as wide as tall), so its major axis says little; cones stand
-      // upright (the segmenter's tilt gate), so the image vertical is used.
-      const Eigen::Vector2d axis = big.axis_ratio < 2.0
-                                       ? Eigen::Vector2d(0.0, 1.0)
-                                       : Eigen::Vector2d(std::cos(big.orientation_rad), std::sin(big.orientation_rad));
-      const double half = big.axis_ratio < 2.0 ? 0.5 * big.bbox_h : 0.5 * big.major_px;
-      for (size_t j = i + 1; j < blobs->size(); ++j) {
-        const Blob& small = (*blobs)[j];
-        const Eigen::Vector2d d = small.centroid - big.centroid;
-        const double along = std::abs(d.dot(axis)), lateral = std::abs(d.x() * axis.y() - d.y() * axis.x());
-        const double gap = along - half - 0.5 * small.major_px;
-        if (lateral > lateral_frac * big.major_px || gap > gap_frac * big.major_px || along < half) continue;
-        // A cone narrows toward its peak: a fragment beyond the collar is no
-        // wider than the big blob's near end. A second cone standing behind
-        // the first, seen above it, shows its wide base there and stays apart.
-        const Eigen::Vector2d toward = d.dot(axis) > 0 ? axis : Eigen::Vector2d(-axis);
-        const double end_window = std::max(3.0, 0.15 * big.major_px);
-        const double big_end_width = WidthAcross(big.runs, big.centroid, toward, half - end_window, INFINITY);
-        const double small_width = WidthAcross(small.runs, small.centroid, toward, -INFINITY, INFINITY);
-        if (small_width > 1.2 * big_end_width + 2.0) continue;
-        big.runs.insert(big.runs.end(), small.runs.begin(), small.runs.end());
-        big.m.Add(small.m);
-        big.hull_area += small.hull_area;
-        big.fragments += small.fragments;
-        ComputeProperties(&big);
-        blobs->erase(blobs->begin() + long(j));
-        merged = true;
-        break;
+namespace {
+
+// The cone axis one blob shows, pointing down the image (peak to base), or
+// zero when its shape does not say: an elongated blob (a whole cone, a tip)
+// lies along its major axis; one clearly wider than tall (the body below a
+// collar, a band between two) lies across it; a near-round one says nothing.
+// An axis further than max_tilt_rad from the image vertical is no cone's.
+Eigen::Vector2d ConeAxisOf(const Blob& b, double max_tilt_rad) {
+  const Eigen::Vector2d major(std::cos(b.orientation_rad), std::sin(b.orientation_rad));
+  Eigen::Vector2d axis = Eigen::Vector2d::Zero();
+  if (b.axis_ratio >= 2.0)
+    axis = major;
+  else if (b.axis_ratio >= 1.3)
+    axis = Eigen::Vector2d(-major.y(), major.x());
+  if (std::abs(axis.y()) < std::cos(max_tilt_rad)) return Eigen::Vector2d::Zero();
+  return axis.y() > 0.0 ? axis : Eigen::Vector2d(-axis);
+}
+
+// Largest coordinate along `axis` (from origin) of the blob's run ends.
+double ExtentAlong(const std::vector<Run>& runs, const Eigen::Vector2d& origin, const Eigen::Vector2d& axis) {
+  double hi = -INFINITY;
+  for (const Run& r : runs)
+    for (int x : {r.x0, r.x1}) hi = std::max(hi, (Eigen::Vector2d(x, r.y) - origin).dot(axis));
+  return hi;
+}
+
+// Gap between `big`'s end and `small` along their common cone axis if `small`
+// can be the next fragment of the cone `big` belongs to; NaN otherwise.
+double FragmentGap(const Blob& big, const Blob& small, double lateral_frac, double gap_frac, double max_tilt_rad) {
+  const Eigen::Vector2d d = small.centroid - big.centroid;
+  // Quick reject: each end lies within its blob's major axis of its centroid.
+  if (d.norm() > (1.0 + lateral_frac + gap_frac) * big.major_px + small.major_px) return NAN;
+  Eigen::Vector2d axis = ConeAxisOf(big, max_tilt_rad);
+  if (axis.isZero()) {  // a near-round body: the line to the fragment is the axis, if upright
+    if (d.norm() < 1e-9) return NAN;
+    axis = d.normalized() * (d.y() >= 0.0 ? 1.0 : -1.0);
+    if (axis.y() < std::cos(max_tilt_rad)) return NAN;
+  }
+  const Eigen::Vector2d small_axis = ConeAxisOf(small, max_tilt_rad);
+  if (!small_axis.isZero() && small_axis.dot(axis) < std::cos(20.0 * M_PI / 180.0)) return NAN;
+  const Eigen::Vector2d toward = d.dot(axis) > 0.0 ? axis : Eigen::Vector2d(-axis);
+  const double along = d.dot(toward), lateral = std::abs(d.x() * axis.y() - d.y() * axis.x());
+  const double big_end = ExtentAlong(big.runs, big.centroid, toward);
+  const double gap = along - big_end - ExtentAlong(small.runs, small.centroid, -toward);
+  if (lateral > lateral_frac * big.major_px || gap > gap_frac * big.major_px || along < big_end) return NAN;
+  // A cone narrows toward its peak. A fragment above the big blob's end is no
+  // wider than that end: a second cone standing behind the first, seen above
+  // it, shows its wide base there. A fragment below it starts at least about
+  // as wide: the next cone's peak, seen below a far cone's base, does not.
+  const double end_window = std::max(3.0, 0.15 * big.major_px);
+  const double big_end_width = WidthAcross(big.runs, big.centroid, toward, big_end - end_window, INFINITY);
+  if (toward.y() < 0.0) {
+    if (WidthAcross(small.runs, small.centroid, toward, -INFINITY, INFINITY) > 1.2 * big_end_width + 2.0) return NAN;
+  } else {
+    const double small_near = -ExtentAlong(small.runs, small.centroid, -toward);
+    const double small_end_width = WidthAcross(small.runs, small.centroid, toward, -INFINITY, small_near + end_window);
+    if (small_end_width < 0.6 * big_end_width - 2.0) return NAN;
+  }
+  return gap;
+}
+
+}  // namespace
+
+void MergeAlongAxes(std::vector<Blob>* blobs, double lateral_frac, double gap_frac, double max_tilt_rad) {
+  // Greedy, nearest pair first: a cone's own fragments, a collar apart, join
+  // before a neighbour's. A far cone's tip seen above this cone's peak then
+  // finds its own band and body first, and a far cone's base seen above this
+  // cone's tip meets the tip's narrow end, not the wide body below it.
+  for (;;) {
+    size_t host = 0, fragment = 0;
+    double best_gap = INFINITY;
+    for (size_t i = 0; i < blobs->size(); ++i)
+      for (size_t j = 0; j < blobs->size(); ++j) {
+        const Blob &a = (*blobs)[i], &b = (*blobs)[j];
+        if (i == j || a.area < b.area || (a.area == b.area && i > j)) continue;  // the larger one hosts
+        const double gap = FragmentGap(a, b, lateral_frac, gap_frac, max_tilt_rad);
+        if (gap < best_gap) host = i, fragment = j, best_gap = gap;
       }
-    }
+    if (!std::isfinite(best_gap)) return;
+    Blob& big = (*blobs)[host];
+    const Blob& small = (*blobs)[fragment];
+    big.runs.insert(big.runs.end(), small.runs.begin(), small.runs.end());
+    big.m.Add(small.m);
+    big.hull_area += small.hull_area;
+    big.fragments += small.fragments;
+    ComputeProperties(&big);
+    blobs->erase(blobs->begin() + long(fragment));
   }
 }
 

@@ -274,7 +274,7 @@ SegmentationResult Segmenter::Process(const ImageView& image, const CameraModel&
   const MaskView mask{mask_.data(), image.width, image.height, image.width};
   std::vector<Blob> blobs = FindBlobs(mask, result.roi_x, result.roi_y, result.roi_x + result.roi_w,
                                       result.roi_y + result.roi_h, config_.min_fragment_area_px);
-  MergeAlongAxes(&blobs, config_.merge_lateral_frac, config_.merge_gap_frac);
+  MergeAlongAxes(&blobs, config_.merge_lateral_frac, config_.merge_gap_frac, config_.max_tilt_deg * M_PI / 180.0);
   result.blobs_ms = MsSince(&t);
   const SegmenterConfig& c = config_;
   for (Blob& b : blobs) {

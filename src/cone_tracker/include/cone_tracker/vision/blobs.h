@@ -51,10 +51,14 @@ void ComputeProperties(Blob* blob);
 // Convex hull area of a set of runs, using pixel corners.
 double HullArea(const std::vector<Run>& runs);
 
-// Merges blobs that lie along one cone's major axis (fragments separated by
-// white collars): a smaller blob joins a larger one when its centroid is
-// within lateral_frac * major of the larger's axis and the gap along the axis
-// is below gap_frac * major.
-void MergeAlongAxes(std::vector<Blob>* blobs, double lateral_frac, double gap_frac);
+// Merges blobs that lie along one cone's axis (fragments separated by white
+// collars): a smaller blob joins a larger one when its centroid is within
+// lateral_frac * major of the larger's cone axis, the gap along that axis is
+// below gap_frac * major, their widths fit one cone narrowing upward, and the
+// axis is within max_tilt_rad of the image vertical (cones stand upright; lens
+// distortion and the rig's roll tilt them in the image). The cone axis of a
+// squat fragment is across its major axis, or the line to the other fragment
+// when it is near round. Nearest fragments join first.
+void MergeAlongAxes(std::vector<Blob>* blobs, double lateral_frac, double gap_frac, double max_tilt_rad);
 
 }  // namespace cone_tracker
