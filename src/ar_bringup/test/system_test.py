@@ -4,7 +4,9 @@ end, evaluates against rig_sim's ground truth (ar_bringup.evaluation) and assert
 as private parameters. How the tolerances were derived: test/README.md (repository root).
 
 Parameters (all optional; an absent tolerance is not asserted, but the figure is printed):
-  ~max_orientation_rms_deg, ~max_position_rms_m, ~max_overlay_rms_px, ~max_overlay_median_px, ~max_overlay_p95_px,
+  ~max_orientation_rms_deg, ~max_position_rms_m, ~max_overlay_rms_px, ~max_overlay_median_px, ~max_overlay_p95_px
+  (the whole run, IMU-only outages included), ~max_tracking_orientation_rms_deg, ~max_tracking_position_rms_m,
+  ~max_tracking_overlay_rms_px (while the cones are tracked: within 0.5 s of a tracker pose),
   ~min_accepted_fraction, ~min_overlay_images (ar_overlay/image messages),
   ~min_outage_s: expect an outage at least this long, then after the poses return, over
   [t_back + ~recovery_start_s, + ~recovery_window_s]: ~max_recovery_orientation_deg, ~max_recovery_position_m.
@@ -92,12 +94,15 @@ class SystemTest(unittest.TestCase):
     def test_accuracy(self):
         self.check_max("orientation_rms_deg", "max_orientation_rms_deg")
         self.check_max("position_rms_m", "max_position_rms_m")
+        self.check_max("tracking_orientation_rms_deg", "max_tracking_orientation_rms_deg")
+        self.check_max("tracking_position_rms_m", "max_tracking_position_rms_m")
         tol = param("min_accepted_fraction")
         if tol is not None:
             self.assertGreaterEqual(self.figures["accepted_fraction"], tol)
 
     def test_overlay(self):
         self.check_max("overlay_rms_px", "max_overlay_rms_px")
+        self.check_max("tracking_overlay_rms_px", "max_tracking_overlay_rms_px")
         self.check_max("overlay_p95_px", "max_overlay_p95_px")
         self.check_max("overlay_median_px", "max_overlay_median_px")
         tol = param("min_overlay_images")

@@ -113,6 +113,25 @@ class EvaluationTest(unittest.TestCase):
         self.assertAlmostEqual(ev.ekf_error_after(5.6, 1.0)[1], 0.0, places=9)
         self.assertAlmostEqual(ev.ekf_error_after(5.0, 1.0)[1], 0.1, places=9)
 
+    def test_tracking_figures_leave_out_the_outage(self):
+        # EKF at 100 Hz over 1-9 s, tracker poses over 1-4 s and 6-9 s; in the outage between them the
+        # EKF drifts by 1 m. The tracking figures cover the tracked spans and 0.5 s after the last pose.
+        t = np.arange(1.0, 9.0, 0.01)
+        p, q = looking_at_cones(t)
+        p = p.copy()
+        drift = (t > 4.5) & (t < 6.0)
+        p[drift] += [1.0, 0, 0]
+        tracker_t = np.concatenate([np.arange(1.0, 4.0, 1 / 30.0), np.arange(6.0, 9.0, 1 / 30.0)])
+        ekf = evaluation.Poses(t, p, q, np.zeros((len(t), 6, 6)))
+        ev = evaluation.evaluate(recording(self.truth, ekf, np.arange(1.0, 9.0, 1 / 30.0), camera_info(), tracker_t),
+                                 settle_s=0.0, tracking_window_s=0.5)
+        self.assertAlmostEqual(ev.summary["tracking_position_rms_m"], 0.0, places=12)
+        self.assertAlmostEqual(ev.summary["position_rms_m"], np.sqrt(drift.mean()), places=9)
+        self.assertAlmostEqual(ev.summary["tracking_fraction"], 6.5 / 8.0, delta=0.01)
+        np.testing.assert_array_equal(evaluation.tracking(np.array([0.5, 1.0, 1.4, 1.6]), [1.0], 0.5),
+                                      [False, True, True, False])
+        self.assertFalse(evaluation.tracking(np.array([1.0]), [], 0.5).any())
+
     def test_empty_recording_does_not_crash(self):
         empty = evaluation.Poses(np.zeros(0), np.zeros((0, 3)), np.zeros((0, 4)), np.zeros((0, 6, 6)))
         ev = evaluation.evaluate(recording(self.truth, empty, np.zeros(0)))

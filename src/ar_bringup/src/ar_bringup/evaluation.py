@@ -312,14 +312,26 @@ def overlay_errors(rec: Recording, model_points=DEFAULT_MODEL_POINTS):
     return rec.image_t[ok][keep], mean[keep]
 
 
+def tracking(t, tracker_t, window_s):
+    """Whether each stamp of t falls within window_s after a tracker pose (at or before it): the cones are
+    being tracked, as against an IMU-only outage, where the EKF extrapolates."""
+    tracker_t = np.sort(np.asarray(tracker_t, dtype=float))
+    if len(tracker_t) == 0:
+        return np.zeros(len(t), dtype=bool)
+    i = np.searchsorted(tracker_t, t, side="right") - 1
+    last = tracker_t[np.clip(i, 0, None)]
+    return (i >= 0) & (t - last <= window_s)
+
+
 def evaluate(rec: Recording, model_points=DEFAULT_MODEL_POINTS, settle_s=1.0, max_gap_s=0.2,
-             min_visible_cones=1) -> Evaluation:
+             min_visible_cones=1, tracking_window_s=0.5) -> Evaluation:
     """Errors, periods, rejections, rates and the summary figures of a Recording.
 
     settle_s: the summary's RMS figures skip the first settle_s after the EKF's first output (the filter
     initialises from the first camera pose and settles its velocity and bias states).
     max_gap_s: tracker poses further apart than this split the accepted periods (an outage).
     min_visible_cones: a detections message with at least this many accepted cones counts as "visible".
+    tracking_window_s: the tracking_* figures cover the stamps at most this long after a tracker pose.
     """
     ekf, trk = _errors(rec.ekf, rec.truth), _errors(rec.tracker, rec.truth)
     ov_t, ov_px = overlay_errors(rec, model_points)
@@ -338,6 +350,8 @@ def evaluate(rec: Recording, model_points=DEFAULT_MODEL_POINTS, settle_s=1.0, ma
     t0 = ekf.t[0] + settle_s if len(ekf.t) else 0.0
     m = ekf.t >= t0
     mo = ov_t >= t0
+    mt = m & tracking(ekf.t, rec.tracker.t, tracking_window_s)
+    mot = mo & tracking(ov_t, rec.tracker.t, tracking_window_s)
     inside3 = np.all(np.abs(ekf.rot_error_deg[m]) <= ekf.sigma3_rot_deg[m], axis=1) \
         if ekf.sigma3_rot_deg is not None and m.any() else np.zeros(0)
     summary = {
@@ -345,6 +359,10 @@ def evaluate(rec: Recording, model_points=DEFAULT_MODEL_POINTS, settle_s=1.0, ma
         "orientation_max_deg": float(ekf.orientation_error_deg[m].max()) if m.any() else float("nan"),
         "position_rms_m": rms(ekf.position_error_m[m]),
         "position_max_m": float(ekf.position_error_m[m].max()) if m.any() else float("nan"),
+        "tracking_orientation_rms_deg": rms(ekf.orientation_error_deg[mt]),
+        "tracking_position_rms_m": rms(ekf.position_error_m[mt]),
+        "tracking_overlay_rms_px": rms(ov_px[mot]),
+        "tracking_fraction": float(mt.sum()) / max(1, int(m.sum())),
         "tracker_orientation_rms_deg": rms(trk.orientation_error_deg),
         "tracker_position_rms_m": rms(trk.position_error_m),
         "orientation_within_3sigma": float(inside3.mean()) if len(inside3) else float("nan"),
