@@ -23,6 +23,8 @@ PACKAGES=(
   libaravis-dev libusb-1.0-0-dev aravis-tools
   # rendering: models, headless OpenGL, a display for rviz
   libassimp-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libgles-dev xvfb
+  # level of detail for dense meshes (ar_overlay)
+  libmeshoptimizer-dev
   # reports
   python3-numpy python3-matplotlib python3-yaml python3-pil
   # python messages for the rostests

@@ -2,7 +2,10 @@
 
 #include <GLES3/gl3.h>
 #include <malloc.h>
+#include <meshoptimizer.h>
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -82,9 +85,14 @@ struct Renderer::Gl {
   GLuint program = 0;
   GLint u_model_view = -1, u_normal_matrix = -1, u_projection = -1, u_alpha = -1, u_color_override = -1, u_ray = -1;
   GLuint framebuffer = 0, color_rb = 0, depth_rb = 0;
-  struct GpuMesh {
-    GLuint vao = 0, vbo = 0, ibo = 0;
+  struct Level {
+    GLuint ibo = 0;
     GLsizei index_count = 0;
+    float error = 0.0f;  // geometric error, in the mesh's units
+  };
+  struct GpuMesh {
+    GLuint vao = 0, vbo = 0;
+    std::vector<Level> levels;  // finest first; levels[0] is the mesh itself
     GLenum index_type = GL_UNSIGNED_INT;
     Eigen::AlignedBox3f bounds;  // in the model's frame
   };
@@ -123,7 +131,7 @@ Renderer::~Renderer() {
   for (auto& m : gl_->meshes) {
     glDeleteVertexArrays(1, &m.vao);
     glDeleteBuffers(1, &m.vbo);
-    glDeleteBuffers(1, &m.ibo);
+    for (auto& level : m.levels) glDeleteBuffers(1, &level.ibo);
   }
   glDeleteFramebuffers(1, &gl_->framebuffer);
   glDeleteRenderbuffers(1, &gl_->color_rb);
@@ -139,16 +147,44 @@ int Renderer::AddMesh(const Mesh& mesh) {
   glBindBuffer(GL_ARRAY_BUFFER, m.vbo);
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.vertices.size() * sizeof(Vertex)), mesh.vertices.data(),
                GL_STATIC_DRAW);
-  glGenBuffers(1, &m.ibo);
-  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m.ibo);
-  if (mesh.vertices.size() <= 65536) {  // 16-bit indices: half the index traffic for llvmpipe's vertex fetch
-    const std::vector<uint16_t> short_indices(mesh.indices.begin(), mesh.indices.end());
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(short_indices.size() * sizeof(uint16_t)),
-                 short_indices.data(), GL_STATIC_DRAW);
-    m.index_type = GL_UNSIGNED_SHORT;
-  } else {
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(uint32_t)),
-                 mesh.indices.data(), GL_STATIC_DRAW);
+  // Levels of detail (RenderConfig::lod_max_error_px). meshoptimizer rather
+  // than our own simplifier: its quadric collapse keeps the topology and the
+  // open borders (the peaks surface's edge) and reports the error it made.
+  std::vector<std::pair<std::vector<uint32_t>, float>> levels{{mesh.indices, 0.0f}};
+  if (mesh.TriangleCount() >= kLodMinTriangles) {
+    const float* positions = mesh.vertices.empty() ? nullptr : mesh.vertices[0].position;
+    const float scale = meshopt_simplifyScale(positions, mesh.vertices.size(), sizeof(Vertex));
+    while (levels.back().first.size() / 3 >= kLodMinTriangles / 4) {
+      const std::vector<uint32_t>& finer = levels.back().first;
+      std::vector<uint32_t> coarser(finer.size());
+      float relative_error = 0.0f;
+      coarser.resize(meshopt_simplify(coarser.data(), finer.data(), finer.size(), positions, mesh.vertices.size(),
+                                      sizeof(Vertex), finer.size() / 2, 1.0f, 0, &relative_error));
+      if (coarser.empty() || coarser.size() > finer.size() * 3 / 4) break;  // the simplifier is stuck
+      // Errors accumulate from level to level; the simplifier's is against its input.
+      levels.emplace_back(std::move(coarser), levels.back().second + relative_error * scale);
+    }
+  }
+  const bool short_indices = mesh.vertices.size() <= 65536;  // half the index traffic for llvmpipe's vertex fetch
+  m.index_type = short_indices ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
+  for (auto& [indices, error] : levels) {
+    // Triangles reordered for the post-transform vertex cache (llvmpipe's draw
+    // module keeps one too): fewer vertex shader runs per triangle drawn.
+    meshopt_optimizeVertexCache(indices.data(), indices.data(), indices.size(), mesh.vertices.size());
+    Gl::Level level;
+    glGenBuffers(1, &level.ibo);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, level.ibo);
+    if (short_indices) {
+      const std::vector<uint16_t> shorts(indices.begin(), indices.end());
+      glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(shorts.size() * sizeof(uint16_t)), shorts.data(),
+                   GL_STATIC_DRAW);
+    } else {
+      glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(uint32_t)), indices.data(),
+                   GL_STATIC_DRAW);
+    }
+    level.index_count = static_cast<GLsizei>(indices.size());
+    level.error = error;
+    m.levels.push_back(level);
   }
   glEnableVertexAttribArray(0);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, position)));
@@ -157,10 +193,37 @@ int Renderer::AddMesh(const Mesh& mesh) {
   glEnableVertexAttribArray(2);
   glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<void*>(offsetof(Vertex, color)));
   glBindVertexArray(0);
-  m.index_count = static_cast<GLsizei>(mesh.indices.size());
   for (const Vertex& v : mesh.vertices) m.bounds.extend(Eigen::Vector3f(v.position[0], v.position[1], v.position[2]));
   gl_->meshes.push_back(m);
   return static_cast<int>(gl_->meshes.size()) - 1;
+}
+
+std::vector<std::pair<size_t, float>> Renderer::LevelsOfDetail(int mesh_id) const {
+  std::vector<std::pair<size_t, float>> out;
+  if (mesh_id < 0 || mesh_id >= static_cast<int>(gl_->meshes.size())) return out;
+  for (const Gl::Level& l : gl_->meshes[static_cast<size_t>(mesh_id)].levels)
+    out.emplace_back(static_cast<size_t>(l.index_count) / 3, l.error);
+  return out;
+}
+
+size_t Renderer::ChooseLevel(int mesh_id, const Eigen::Matrix4f& T_camera_model) const {
+  const Gl::GpuMesh& m = gl_->meshes[static_cast<size_t>(mesh_id)];
+  if (config_.lod_max_error_px <= 0.0 || m.levels.size() < 2 || m.bounds.isEmpty()) return 0;
+  // The error projects largest at the nearest point: the nearest corner of the
+  // bounding box is nearer still, so the bound holds for every vertex.
+  float nearest = INFINITY;
+  for (int corner = 0; corner < 8; ++corner)
+    nearest = std::min(
+        nearest,
+        (T_camera_model * m.bounds.corner(static_cast<Eigen::AlignedBox3f::CornerType>(corner)).homogeneous()).z());
+  nearest = std::max(nearest, static_cast<float>(config_.near_m));
+  const float model_scale = T_camera_model.topLeftCorner<3, 3>().colwise().norm().maxCoeff();
+  const float px_per_unit = static_cast<float>(std::max(camera_.fx_px, camera_.fy_px)) * model_scale / nearest;
+  size_t level = 0;
+  while (level + 1 < m.levels.size() &&
+         m.levels[level + 1].error * px_per_unit <= static_cast<float>(config_.lod_max_error_px))
+    ++level;
+  return level;
 }
 
 void Renderer::SetCamera(const CameraIntrinsics& k) {
@@ -234,6 +297,7 @@ cv::Rect Renderer::Render(const std::vector<DrawItem>& items, const Eigen::Isome
   overlay_written_ = cv::Rect();
   overlay_rgba = overlay_;
   const cv::Rect roi = CanvasRoi(items, T_c_m0);
+  drawn_triangles_ = 0;
   if (roi.empty()) return cv::Rect();  // nothing in view: nothing to draw
   glBindFramebuffer(GL_FRAMEBUFFER, gl_->framebuffer);
   glViewport(0, 0, W, H);
@@ -261,8 +325,11 @@ cv::Rect Renderer::Render(const std::vector<DrawItem>& items, const Eigen::Isome
     glUniform1f(gl_->u_alpha, item.alpha);
     glUniform4fv(gl_->u_color_override, 1, item.color_override.data());
     const Gl::GpuMesh& m = gl_->meshes[static_cast<size_t>(item.mesh_id)];
+    const Gl::Level& level = m.levels[ChooseLevel(item.mesh_id, model_view)];
     glBindVertexArray(m.vao);
-    glDrawElements(GL_TRIANGLES, m.index_count, m.index_type, nullptr);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, level.ibo);
+    glDrawElements(GL_TRIANGLES, level.index_count, m.index_type, nullptr);
+    drawn_triangles_ += static_cast<size_t>(level.index_count) / 3;
   }
   glBindVertexArray(0);
   glDisable(GL_SCISSOR_TEST);

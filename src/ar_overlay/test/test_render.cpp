@@ -149,6 +149,97 @@ TEST_F(RenderTest, RegionCoversTheModelWholeAndIsEmptyWhenNothingIsInView) {
   EXPECT_EQ(renderer.Render({d}, Eigen::Isometry3d::Identity(), overlay), cv::Rect(0, 0, 1024, 768));
 }
 
+// Levels of detail (RenderConfig::lod_max_error_px) on the benchmark's mesh.
+class LodTest : public ::testing::Test {
+ protected:
+  const Mesh peaks = PeaksSurface(160);   // 50,562 triangles
+  static constexpr float kScale = 0.05f;  // as the bench and scene_peaks.yaml: about 0.3 m across
+
+  // The peaks seen from `distance_m` metres, rendered by `renderer`.
+  static cv::Mat Draw(Renderer& renderer, int mesh, double distance_m) {
+    renderer.SetCamera(kCamera);
+    DrawItem d;
+    d.mesh_id = mesh;
+    d.T_cones_model.topLeftCorner<3, 3>() *= kScale;
+    const Eigen::Vector3d eye = Eigen::Vector3d(0.5, -0.6, 0.45).normalized() * distance_m;
+    cv::Mat overlay;
+    renderer.Render({d}, CameraLookAt(eye, Eigen::Vector3d::Zero()).inverse(), overlay);
+    return overlay.clone();
+  }
+};
+
+TEST_F(LodTest, ChainHalvesTheTrianglesWithGrowingError) {
+  Renderer renderer;
+  const int mesh = renderer.AddMesh(peaks);
+  const auto levels = renderer.LevelsOfDetail(mesh);
+  ASSERT_GE(levels.size(), 4u);
+  EXPECT_EQ(levels[0].first, peaks.TriangleCount());
+  EXPECT_EQ(levels[0].second, 0.0f);
+  for (size_t i = 1; i < levels.size(); ++i) {
+    EXPECT_LE(levels[i].first, levels[i - 1].first * 3 / 4) << i;
+    EXPECT_GT(levels[i].second, levels[i - 1].second) << i;
+  }
+  EXPECT_GE(levels.back().first, kLodMinTriangles / 8);
+  // Small meshes are drawn as they are.
+  EXPECT_EQ(renderer.LevelsOfDetail(renderer.AddMesh(Box(1, 1, 1, {1, 1, 1, 1}))).size(), 1u);
+}
+
+TEST_F(LodTest, FarAwayDrawsFewerTrianglesNearDrawsThemAll) {
+  Renderer renderer;
+  const int mesh = renderer.AddMesh(peaks);
+  Draw(renderer, mesh, 0.4);  // the surface fills the view: the full mesh
+  EXPECT_EQ(renderer.drawn_triangles(), peaks.TriangleCount());
+  Draw(renderer, mesh, 1.2);
+  const size_t mid = renderer.drawn_triangles();
+  Draw(renderer, mesh, 6.0);
+  const size_t far = renderer.drawn_triangles();
+  EXPECT_LT(mid, peaks.TriangleCount());
+  EXPECT_LT(far, mid);
+  // The level drawn is the coarsest whose error projects to <= 0.5 px at the
+  // nearest corner of the bounding box, which lies within 0.45 m of the origin.
+  const auto levels = renderer.LevelsOfDetail(mesh);
+  size_t drawn = levels.size();
+  for (size_t i = 0; i < levels.size(); ++i) {
+    if (levels[i].first == far) drawn = i;
+  }
+  ASSERT_LT(drawn, levels.size());
+  EXPECT_LE(kCamera.fx_px * levels[drawn].second * kScale / 6.45, 0.5);
+  if (drawn + 1 < levels.size()) EXPECT_GT(kCamera.fx_px * levels[drawn + 1].second * kScale / 5.55, 0.5);
+  RenderConfig off;
+  off.lod_max_error_px = 0.0;
+  Renderer full(off);
+  Draw(full, full.AddMesh(peaks), 6.0);
+  EXPECT_EQ(full.drawn_triangles(), peaks.TriangleCount());
+}
+
+TEST_F(LodTest, PictureMatchesTheFullMesh) {
+  // At about the bench's distance the default (0.5 px) draws an eighth of the
+  // triangles; silhouette and shading must be the full mesh's to within
+  // that half pixel: alpha differs only along the outline, colour barely.
+  Renderer lod;
+  RenderConfig off;
+  off.lod_max_error_px = 0.0;
+  Renderer full(off);
+  const cv::Mat a = Draw(lod, lod.AddMesh(peaks), 1.2), b = Draw(full, full.AddMesh(peaks), 1.2);
+  ASSERT_LT(lod.drawn_triangles(), full.drawn_triangles() / 2);
+  cv::Mat alpha_a, alpha_b, diff;
+  cv::extractChannel(a, alpha_a, 3);
+  cv::extractChannel(b, alpha_b, 3);
+  const int covered = cv::countNonZero(alpha_b);
+  ASSERT_GT(covered, 20000);
+  cv::absdiff(alpha_a, alpha_b, diff);
+  const int outline_moved = cv::countNonZero(diff > 128);
+  std::printf("LOD %zu of %zu triangles: %d of %d covered pixels changed coverage\n", lod.drawn_triangles(),
+              full.drawn_triangles(), outline_moved, covered);
+  EXPECT_LT(outline_moved, covered / 100);
+  cv::Mat both = (alpha_a == 255) & (alpha_b == 255);
+  cv::absdiff(a, b, diff);
+  const cv::Scalar mean_colour_diff = cv::mean(diff, both);
+  std::printf("mean colour difference where both are opaque: %.2f %.2f %.2f of 255\n", mean_colour_diff[0],
+              mean_colour_diff[1], mean_colour_diff[2]);
+  for (int c = 0; c < 3; ++c) EXPECT_LT(mean_colour_diff[c], 3.0) << c;
+}
+
 TEST(OverlayAlpha, HalfTransparentModelBlendsWithTheImage) {
   Overlay overlay;
   ModelSpec spec;

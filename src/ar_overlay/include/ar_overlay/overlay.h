@@ -37,6 +37,7 @@ class Overlay {
 
   size_t model_count() const { return specs_.size(); }
   const std::string& gl_renderer() const { return renderer_.gl_renderer(); }
+  const Renderer& renderer() const { return renderer_; }
 
  private:
   Renderer renderer_;

@@ -27,7 +27,15 @@ struct DrawItem {
 struct RenderConfig {
   double near_m = 0.05;
   double far_m = 200.0;
+  // Level of detail: a mesh of at least kLodMinTriangles gets coarser copies
+  // (meshoptimizer's quadric simplifier, each about half the triangles of the
+  // last, over the same vertices, so normals and colours are unchanged), and
+  // each frame draws the coarsest whose geometric error, projected at the
+  // mesh's nearest point, is at most this many pixels. 0: always the full mesh.
+  double lod_max_error_px = 0.5;
 };
+
+constexpr size_t kLodMinTriangles = 4096;
 
 class Renderer {
  public:
@@ -47,6 +55,11 @@ class Renderer {
   cv::Rect Render(const std::vector<DrawItem>& items, const Eigen::Isometry3d& T_camera_cones, cv::Mat& overlay_rgba);
 
   const std::string& gl_renderer() const { return egl_.renderer(); }
+  // Triangles drawn by the last Render (after the level-of-detail choice).
+  size_t drawn_triangles() const { return drawn_triangles_; }
+  // A mesh's levels of detail as (triangles, geometric error in the mesh's
+  // units), finest (the mesh itself, error 0) first.
+  std::vector<std::pair<size_t, float>> LevelsOfDetail(int mesh_id) const;
 
  private:
   struct Gl;  // GL object names, kept out of this header
@@ -59,8 +72,11 @@ class Renderer {
   cv::Rect canvas_written_;   // canvas_ is zero outside it
   cv::Mat overlay_;           // what Render hands out,
   cv::Rect overlay_written_;  // zero outside this
+  size_t drawn_triangles_ = 0;
   // Where the items can appear on the canvas: their bounding boxes projected.
   cv::Rect CanvasRoi(const std::vector<DrawItem>& items, const Eigen::Matrix4f& T_camera_cones) const;
+  // Index of the level of detail to draw for a mesh at T_camera_model.
+  size_t ChooseLevel(int mesh_id, const Eigen::Matrix4f& T_camera_model) const;
 };
 
 }  // namespace ar_overlay
