@@ -1,5 +1,6 @@
 // ar_overlay_bench: render + composite at 1024x768 with the peaks surface at
-// 160 x 160 (50,562 triangles) on whatever EGL gives (llvmpipe here), against
+// 160 x 160 (50,562 triangles) on whatever EGL gives (llvmpipe here), with the
+// default level of detail (RenderConfig::lod_max_error_px) and without, against
 // a software baseline on the same mesh and pose in the same process: OpenCV's
 // cv::projectPoints (with the distortion) and cv::fillConvexPoly per triangle,
 // painter-sorted and flat-shaded.
@@ -112,15 +113,27 @@ int main() {
   cv::Mat background(k.height_px, k.width_px, CV_8UC3);
   cv::randu(background, 0, 255);
   try {
-    Overlay overlay;
+    Overlay overlay;  // the default RenderConfig: level of detail at <= 0.5 px
     overlay.AddModel(spec, peaks);
+    RenderConfig full_mesh;
+    full_mesh.lod_max_error_px = 0.0;
+    Overlay overlay_full(full_mesh);
+    overlay_full.AddModel(spec, peaks);
     std::printf("mesh: peaks 160x160, %zu triangles; image %dx%d; GL: %s\n", peaks.TriangleCount(), k.width_px,
                 k.height_px, overlay.gl_renderer().c_str());
+    std::printf("levels of detail (triangles, error m):");
+    for (const auto& [triangles, error] : overlay.renderer().LevelsOfDetail(0))
+      std::printf(" %zu/%.2g", triangles, error * spec.scale);
+    std::printf("\n");
     cv::Mat out;
     std::string enc;
     double ours_cpu = 0, opencv_cpu = 0;
     const double ours = MedianMs(
         10, 100, [&] { overlay.Process(background, "bgr8", k, T_camera_cones, out, enc); }, &ours_cpu);
+    const size_t drawn = overlay.renderer().drawn_triangles();
+    double full_cpu = 0;
+    const double full = MedianMs(
+        10, 100, [&] { overlay_full.Process(background, "bgr8", k, T_camera_cones, out, enc); }, &full_cpu);
     const double no_remap =
         MedianMs(10, 100, [&] { overlay.Process(background, "bgr8", pinhole, T_camera_cones, out, enc); });
     const Eigen::Isometry3d T_camera_model = T_camera_cones * spec.T_parent_origin;
@@ -139,10 +152,14 @@ int main() {
       SoftwareRender(peaks, scale, T_camera_model, k, out);
       cv::imwrite(std::string(dir) + "/bench_opencv.png", out);
     }
-    std::printf("GL render + remap + composite: median %.2f ms per frame\n", ours);
+    std::printf("GL render + remap + composite: median %.2f ms per frame (%zu triangles drawn at <= %.1f px error)\n",
+                ours, drawn, RenderConfig().lod_max_error_px);
+    std::printf("the same, always the full mesh (lod_max_error_px 0): median %.2f ms\n", full);
     std::printf("GL render + composite, no lens distortion (no remap): median %.2f ms\n", no_remap);
     std::printf("OpenCV projectPoints + fillConvexPoly (painter, flat): median %.2f ms\n", opencv);
     std::printf("BENCH ar_overlay.render_median %.3f ms\n", ours);
+    std::printf("BENCH ar_overlay.render_full_mesh_median %.3f ms\n", full);
+    std::printf("BENCH ar_overlay.render_full_mesh_cpu_median %.3f ms\n", full_cpu);
     std::printf("BENCH ar_overlay.render_no_remap_median %.3f ms\n", no_remap);
     std::printf("BENCH ar_overlay.opencv_fillpoly_median %.3f ms\n", opencv);
     std::printf("BENCH ar_overlay.speedup_vs_opencv %.2f x\n", opencv / ours);

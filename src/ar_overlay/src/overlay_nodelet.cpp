@@ -90,6 +90,7 @@ class OverlayNodelet : public nodelet::Nodelet {
       RenderConfig rc;
       rc.near_m = config_.near_m;
       rc.far_m = config_.far_m;
+      rc.lod_max_error_px = config_.lod_max_error_px;
       overlay = std::make_unique<Overlay>(rc);
       std::vector<std::string> errors;
       if (!config_.scene_yaml.empty()) errors = overlay->LoadScene(config_.scene_yaml);
@@ -211,6 +212,7 @@ class OverlayNodelet : public nodelet::Nodelet {
       ++rendered_;
       render_ms_sum_ = render_ms_sum_ + ms;
       render_ms_max_ = std::max(render_ms_max_.load(), ms);
+      triangles_drawn_ = overlay->renderer().drawn_triangles();
     }
     if (window) {
       cv::Mat shown;
@@ -240,6 +242,7 @@ class OverlayNodelet : public nodelet::Nodelet {
     s.add("frames dropped (render slower than camera)", dropped_.load());
     s.add("render+composite mean ms", rendered ? render_ms_sum_.load() / rendered : 0.0);
     s.add("render+composite max ms", render_ms_max_.load());
+    s.add("triangles drawn (last frame, after the level of detail)", triangles_drawn_.load());
     s.add("GL renderer", gl_renderer_);
     for (const std::string& e : model_errors_) s.add("model not loaded", e);
   }
@@ -267,7 +270,7 @@ class OverlayNodelet : public nodelet::Nodelet {
   uint64_t last_without_pose_ = 0;
   std::thread render_thread_;
 
-  std::atomic<uint64_t> rendered_{0}, without_pose_{0}, bad_input_{0}, dropped_{0};
+  std::atomic<uint64_t> rendered_{0}, without_pose_{0}, bad_input_{0}, dropped_{0}, triangles_drawn_{0};
   std::atomic<double> render_ms_sum_{0}, render_ms_max_{0};
 };
 

@@ -26,6 +26,7 @@ std::string LoadConfig(const ros::NodeHandle& nh, OverlayConfig& c) {
   nh.param("velocity_window_s", c.velocity_window_s, c.velocity_window_s);
   nh.param("near_m", c.near_m, c.near_m);
   nh.param("far_m", c.far_m, c.far_m);
+  nh.param("lod_max_error_px", c.lod_max_error_px, c.lod_max_error_px);
   nh.param("show_window", c.show_window, c.show_window);
   nh.param("window_name", c.window_name, c.window_name);
 
@@ -43,6 +44,7 @@ std::string LoadConfig(const ros::NodeHandle& nh, OverlayConfig& c) {
   if (!(c.max_prediction_s >= 0 && c.max_prediction_s <= 1)) return "max_prediction_s must be in [0, 1]";
   if (!(c.velocity_window_s > 0 && c.velocity_window_s <= 1)) return "velocity_window_s must be in (0, 1]";
   if (!(c.near_m > 0 && c.far_m > c.near_m)) return "near_m and far_m need 0 < near_m < far_m";
+  if (!(c.lod_max_error_px >= 0 && c.lod_max_error_px <= 100)) return "lod_max_error_px must be in [0, 100]";
   return "";
 }
 

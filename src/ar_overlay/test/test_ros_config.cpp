@@ -35,7 +35,7 @@ TEST(LoadConfig, RefusesBadValuesNamingThem) {
       {"pose_mode", XmlRpc::XmlRpcValue("latest")},      {"render_rate_hz", XmlRpc::XmlRpcValue(0.0)},
       {"tf_timeout_s", XmlRpc::XmlRpcValue(-1.0)},       {"near_m", XmlRpc::XmlRpcValue(0.0)},
       {"scene_yaml", XmlRpc::XmlRpcValue("/nope.yaml")}, {"fixed_frame", XmlRpc::XmlRpcValue("")},
-      {"max_prediction_s", XmlRpc::XmlRpcValue(5.0)},
+      {"max_prediction_s", XmlRpc::XmlRpcValue(5.0)},    {"lod_max_error_px", XmlRpc::XmlRpcValue(-1.0)},
   };
   int i = 0;
   for (const auto& [name, value] : bad) {

@@ -28,7 +28,8 @@ struct OverlayConfig {
   double velocity_window_s = 0.025;  // predicted mode: the older pose for the velocity is this far back
   double near_m = 0.05;
   double far_m = 200.0;
-  bool show_window = false;  // fullscreen OpenCV window for the rig's LCD
+  double lod_max_error_px = 0.5;  // RenderConfig's: level-of-detail error bound; 0 always draws the full meshes
+  bool show_window = false;       // fullscreen OpenCV window for the rig's LCD
   std::string window_name = "ar_overlay";
 };
 
