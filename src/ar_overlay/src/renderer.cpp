@@ -97,7 +97,35 @@ struct Renderer::Gl {
     Eigen::AlignedBox3f bounds;  // in the model's frame
   };
   std::vector<GpuMesh> meshes;
+  int fbo_width = 0, fbo_height = 0;  // the framebuffer's storage, a region of the canvas (FitFramebuffer)
 };
+
+namespace {
+// Framebuffer sizes are multiples of this: llvmpipe's tile size, and few reallocations.
+constexpr int kFramebufferStep = 64;
+int RoundUp(int v) { return (v + kFramebufferStep - 1) / kFramebufferStep * kFramebufferStep; }
+}  // namespace
+
+void Renderer::FitFramebuffer(int width, int height) {
+  // The framebuffer holds the frame's region, not the canvas: a clear of the
+  // whole framebuffer is llvmpipe's fast per-tile clear, while a scissored
+  // clear (Mesa's clear_with_quad) shades a quad over the region, about 1.4 ms
+  // of the bench's 507x775 region. It grows to fit and shrinks when a quarter
+  // of it would do, so its size changes rarely.
+  const int w = RoundUp(width), h = RoundUp(height);
+  Gl& g = *gl_;
+  if (w <= g.fbo_width && h <= g.fbo_height && 4 * w * h > g.fbo_width * g.fbo_height) return;
+  g.fbo_width = w, g.fbo_height = h;
+  glBindFramebuffer(GL_FRAMEBUFFER, g.framebuffer);
+  glBindRenderbuffer(GL_RENDERBUFFER, g.color_rb);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, g.color_rb);
+  glBindRenderbuffer(GL_RENDERBUFFER, g.depth_rb);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, g.depth_rb);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw std::runtime_error("ar_overlay: offscreen framebuffer incomplete");
+}
 
 Renderer::Renderer(const RenderConfig& config) : config_(config), gl_(new Gl) {
   // llvmpipe mallocs and frees megabytes of vertex and bin data per draw. With
@@ -237,15 +265,7 @@ void Renderer::SetCamera(const CameraIntrinsics& k) {
     glGenRenderbuffers(1, &gl_->color_rb);
     glGenRenderbuffers(1, &gl_->depth_rb);
   }
-  glBindFramebuffer(GL_FRAMEBUFFER, gl_->framebuffer);
-  glBindRenderbuffer(GL_RENDERBUFFER, gl_->color_rb);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, map_->canvas_width(), map_->canvas_height());
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, gl_->color_rb);
-  glBindRenderbuffer(GL_RENDERBUFFER, gl_->depth_rb);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, map_->canvas_width(), map_->canvas_height());
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, gl_->depth_rb);
-  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw std::runtime_error("ar_overlay: offscreen framebuffer incomplete");
+  gl_->fbo_width = gl_->fbo_height = 0;  // sized by the first Render (FitFramebuffer)
   canvas_.create(map_->canvas_height(), map_->canvas_width(), CV_8UC4);
   canvas_.setTo(cv::Scalar::all(0));
   canvas_written_ = cv::Rect();
@@ -282,9 +302,7 @@ cv::Rect Renderer::CanvasRoi(const std::vector<DrawItem>& items, const Eigen::Ma
 cv::Rect Renderer::Render(const std::vector<DrawItem>& items, const Eigen::Isometry3d& T_camera_cones,
                           cv::Mat& overlay_rgba) {
   if (!map_) throw std::logic_error("ar_overlay: Renderer::Render before SetCamera");
-  const int W = map_->canvas_width(), H = map_->canvas_height();
-  const Eigen::Matrix4f P = ProjectionFromIntrinsics(camera_.fx_px, camera_.fy_px, map_->canvas_cx(), map_->canvas_cy(),
-                                                     W, H, config_.near_m, config_.far_m);
+  const int W = map_->canvas_width();
   const Eigen::Matrix4f T_c_m0 = T_camera_cones.matrix().cast<float>();
   // overlay_ is the renderer's own buffer, so zeroing what the last frame wrote
   // is enough: a full clear of 1024x768 RGBA costs more than a small model's readback.
@@ -299,10 +317,14 @@ cv::Rect Renderer::Render(const std::vector<DrawItem>& items, const Eigen::Isome
   const cv::Rect roi = CanvasRoi(items, T_c_m0);
   drawn_triangles_ = 0;
   if (roi.empty()) return cv::Rect();  // nothing in view: nothing to draw
+  // The framebuffer's pixel (0, 0) is the canvas's (roi.x, roi.y): the
+  // principal point moves by the region's corner.
+  FitFramebuffer(roi.width, roi.height);
+  const double cx = map_->canvas_cx() - roi.x, cy = map_->canvas_cy() - roi.y;
+  const Eigen::Matrix4f P = ProjectionFromIntrinsics(camera_.fx_px, camera_.fy_px, cx, cy, gl_->fbo_width,
+                                                     gl_->fbo_height, config_.near_m, config_.far_m);
   glBindFramebuffer(GL_FRAMEBUFFER, gl_->framebuffer);
-  glViewport(0, 0, W, H);
-  glEnable(GL_SCISSOR_TEST);  // clear and draw only where the models can be
-  glScissor(roi.x, roi.y, roi.width, roi.height);
+  glViewport(0, 0, gl_->fbo_width, gl_->fbo_height);
   glClearColor(0, 0, 0, 0);
   glClearDepthf(1.0f);
   glEnable(GL_DEPTH_TEST);
@@ -313,9 +335,8 @@ cv::Rect Renderer::Render(const std::vector<DrawItem>& items, const Eigen::Isome
   glUseProgram(gl_->program);
   glUniformMatrix4fv(gl_->u_projection, 1, GL_FALSE, P.data());  // Eigen is column-major, as GL
   // gl_FragCoord is the pixel centre, u + 0.5, with row 0 at the image top (ProjectionFromIntrinsics).
-  glUniform4f(gl_->u_ray, static_cast<float>(1.0 / camera_.fx_px),
-              static_cast<float>(-(map_->canvas_cx() + 0.5) / camera_.fx_px), static_cast<float>(1.0 / camera_.fy_px),
-              static_cast<float>(-(map_->canvas_cy() + 0.5) / camera_.fy_px));
+  glUniform4f(gl_->u_ray, static_cast<float>(1.0 / camera_.fx_px), static_cast<float>(-(cx + 0.5) / camera_.fx_px),
+              static_cast<float>(1.0 / camera_.fy_px), static_cast<float>(-(cy + 0.5) / camera_.fy_px));
   for (const DrawItem& item : items) {
     if (item.mesh_id < 0 || item.mesh_id >= static_cast<int>(gl_->meshes.size())) continue;
     const Eigen::Matrix4f model_view = T_c_m0 * item.T_cones_model;
@@ -332,7 +353,6 @@ cv::Rect Renderer::Render(const std::vector<DrawItem>& items, const Eigen::Isome
     drawn_triangles_ += static_cast<size_t>(level.index_count) / 3;
   }
   glBindVertexArray(0);
-  glDisable(GL_SCISSOR_TEST);
   // Read back the region into its place in canvas_ (row 0 = image top, camera_projection.h).
   // The remap reads canvas pixels outside `roi` too: they must be zero, and only
   // the last frame's region can be anything else.
@@ -340,7 +360,7 @@ cv::Rect Renderer::Render(const std::vector<DrawItem>& items, const Eigen::Isome
   canvas_written_ = roi;
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   glPixelStorei(GL_PACK_ROW_LENGTH, W);
-  glReadPixels(roi.x, roi.y, roi.width, roi.height, GL_RGBA, GL_UNSIGNED_BYTE, canvas_.ptr(roi.y, roi.x));
+  glReadPixels(0, 0, roi.width, roi.height, GL_RGBA, GL_UNSIGNED_BYTE, canvas_.ptr(roi.y, roi.x));
   glPixelStorei(GL_PACK_ROW_LENGTH, 0);
   const cv::Rect raw_roi = map_->RawRoi(roi);
   if (!raw_roi.empty()) map_->ApplyRoi(canvas_, raw_roi, overlay_);

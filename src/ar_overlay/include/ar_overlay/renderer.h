@@ -75,6 +75,9 @@ class Renderer {
   size_t drawn_triangles_ = 0;
   // Where the items can appear on the canvas: their bounding boxes projected.
   cv::Rect CanvasRoi(const std::vector<DrawItem>& items, const Eigen::Matrix4f& T_camera_cones) const;
+  // (Re)allocates the framebuffer when a width x height region does not fit or
+  // would fit in a quarter of it.
+  void FitFramebuffer(int width, int height);
   // Index of the level of detail to draw for a mesh at T_camera_model.
   size_t ChooseLevel(int mesh_id, const Eigen::Matrix4f& T_camera_model) const;
 };
