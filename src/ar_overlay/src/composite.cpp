@@ -1,5 +1,6 @@
 #include "ar_overlay/composite.h"
 
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
@@ -45,20 +46,23 @@ void CompositeInPlace(const cv::Mat& overlay_rgba, const std::string& encoding, 
   if (overlay_rgba.type() != CV_8UC4 || image.type() != CV_8UC3 || overlay_rgba.size() != image.size())
     throw std::invalid_argument("ar_overlay: composite needs an RGBA overlay the size of the 8-bit colour image");
   const bool bgr = encoding == "bgr8";
-  for (int v = 0; v < image.rows; ++v) {
-    const uint8_t* o = overlay_rgba.ptr<uint8_t>(v);
-    uint8_t* p = image.ptr<uint8_t>(v);
-    for (int u = 0; u < image.cols; ++u, o += 4, p += 3) {
-      const unsigned a = o[3];
-      if (a == 0) continue;  // most of the frame: leave the camera's pixel alone
-      const unsigned keep = 255 - a;
-      // The overlay is premultiplied (renderer.cpp): out = c + (1 - a) image.
-      const uint8_t r = o[0], g = o[1], b = o[2];
-      p[0] = Add((bgr ? b : r), p[0], keep);
-      p[1] = Add(g, p[1], keep);
-      p[2] = Add((bgr ? r : b), p[2], keep);
+  // Rows in parallel (OpenCV's pool): the overlay's region can be most of the frame.
+  cv::parallel_for_(cv::Range(0, image.rows), [&](const cv::Range& rows) {
+    for (int v = rows.start; v < rows.end; ++v) {
+      const uint8_t* o = overlay_rgba.ptr<uint8_t>(v);
+      uint8_t* p = image.ptr<uint8_t>(v);
+      for (int u = 0; u < image.cols; ++u, o += 4, p += 3) {
+        const unsigned a = o[3];
+        if (a == 0) continue;  // most of the frame: leave the camera's pixel alone
+        const unsigned keep = 255 - a;
+        // The overlay is premultiplied (renderer.cpp): out = c + (1 - a) image.
+        const uint8_t r = o[0], g = o[1], b = o[2];
+        p[0] = Add((bgr ? b : r), p[0], keep);
+        p[1] = Add(g, p[1], keep);
+        p[2] = Add((bgr ? r : b), p[2], keep);
+      }
     }
-  }
+  });
 }
 
 }  // namespace ar_overlay
