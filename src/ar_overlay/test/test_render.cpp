@@ -187,7 +187,8 @@ TEST_F(LodTest, ChainHalvesTheTrianglesWithGrowingError) {
 TEST_F(LodTest, FarAwayDrawsFewerTrianglesNearDrawsThemAll) {
   Renderer renderer;
   const int mesh = renderer.AddMesh(peaks);
-  Draw(renderer, mesh, 0.4);  // the surface fills the view: the full mesh
+  // Part of the surface in front of the near plane: its error is judged there, the full mesh.
+  Draw(renderer, mesh, 0.15);
   EXPECT_EQ(renderer.drawn_triangles(), peaks.TriangleCount());
   Draw(renderer, mesh, 1.2);
   const size_t mid = renderer.drawn_triangles();
@@ -196,7 +197,7 @@ TEST_F(LodTest, FarAwayDrawsFewerTrianglesNearDrawsThemAll) {
   EXPECT_LT(mid, peaks.TriangleCount());
   EXPECT_LT(far, mid);
   // The level drawn is the coarsest whose error projects to <= 0.5 px at the
-  // nearest corner of the bounding box, which lies within 0.45 m of the origin.
+  // nearest vertex, which lies within 0.45 m of the origin.
   const auto levels = renderer.LevelsOfDetail(mesh);
   size_t drawn = levels.size();
   for (size_t i = 0; i < levels.size(); ++i) {

@@ -31,11 +31,14 @@ struct RenderConfig {
   // (meshoptimizer's quadric simplifier, each about half the triangles of the
   // last, over the same vertices, so normals and colours are unchanged), and
   // each frame draws the coarsest whose geometric error, projected at the
-  // mesh's nearest point, is at most this many pixels. 0: always the full mesh.
+  // mesh's nearest vertex, is at most this many pixels. 0: always the full mesh.
   double lod_max_error_px = 0.5;
 };
 
 constexpr size_t kLodMinTriangles = 4096;
+// Up to this many vertices the level is chosen by the nearest vertex, beyond
+// it by the nearest corner of the bounding box (renderer.cpp, ChooseLevel).
+constexpr size_t kLodMaxExactVertices = 1u << 20;
 
 class Renderer {
  public:
