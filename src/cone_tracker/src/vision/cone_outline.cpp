@@ -131,7 +131,7 @@ OutlineFit FitConeOutline(const std::vector<Run>& runs, const Eigen::Vector2d& p
     }
   }
   std::vector<Eigen::Vector2d> pts;
-  pts.reserve(2 * row_ext.size() + bottom.size());
+  pts.reserve(2 * row_ext.size() + bottom.size() + 2);
   size_t nr = 0;
   for (size_t i = 0; i < row_ext.size(); ++i)
     if (row_ext[i].first != INT_MAX) pts.emplace_back(row_ext[i].first - 0.5, y_lo + int(i)), ++nr;
@@ -139,8 +139,10 @@ OutlineFit FitConeOutline(const std::vector<Run>& runs, const Eigen::Vector2d& p
     if (row_ext[i].first != INT_MAX) pts.emplace_back(row_ext[i].second + 0.5, y_lo + int(i));
   for (size_t i = 0; i < bottom.size(); ++i)
     if (bottom[i] != no_row) pts.emplace_back(x_lo + int(i), bottom[i] + (base_down ? 0.5 : -0.5));
-  std::vector<Eigen::Vector2d> guesses = {peak_guess, base_guess};
-  if (!UndistortPixels(camera, &pts) || !UndistortPixels(camera, &guesses)) return out.why = "undistortion failed", out;
+  pts.push_back(peak_guess), pts.push_back(base_guess);  // undistorted with the outline, in one call
+  if (!UndistortPixels(camera, &pts)) return out.why = "undistortion failed", out;
+  const std::vector<Eigen::Vector2d> guesses(pts.end() - 2, pts.end());
+  pts.resize(pts.size() - 2);
   const std::vector<Eigen::Vector2d> left(pts.begin(), pts.begin() + long(nr)),
       right(pts.begin() + long(nr), pts.begin() + long(2 * nr)), arc(pts.begin() + long(2 * nr), pts.end());
   const Eigen::Vector2d peak0 = guesses[0], dir0 = (guesses[1] - guesses[0]).normalized();
