@@ -37,17 +37,7 @@ cone_tracker::SegmenterConfig LoadConfig(const std::string& path) {
   Read(n, "max_tilt_deg", &c.max_tilt_deg);
   Read(n, "merge_lateral_frac", &c.merge_lateral_frac), Read(n, "merge_gap_frac", &c.merge_gap_frac);
   Read(n, "reject_bad_outline", &c.reject_bad_outline);
-  if (n["refinement"]) {
-    const std::string r = n["refinement"].as<std::string>();
-    if (r == "outline")
-      c.refinement = cone_tracker::PeakRefinement::kOutline;
-    else if (r == "templates")
-      c.refinement = cone_tracker::PeakRefinement::kTemplates;
-    else if (r == "none")
-      c.refinement = cone_tracker::PeakRefinement::kNone;
-    else
-      throw std::invalid_argument("refinement must be outline, templates or none, not '" + r + "'");
-  }
+  if (n["refinement"]) c.refinement = cone_tracker::ParsePeakRefinement(n["refinement"].as<std::string>());
   return c;
 }
 

@@ -13,7 +13,6 @@
 #include <pluginlib/class_list_macros.hpp>
 
 #include <algorithm>
-#include <iterator>
 #include <memory>
 #include <optional>
 #include <set>
@@ -26,8 +25,6 @@
 namespace cone_tracker {
 
 namespace {
-// dynamic_reconfigure's peak_refinement enum (ConeTracker.cfg): value = index.
-constexpr PeakRefinement kRefinements[] = {PeakRefinement::kOutline, PeakRefinement::kTemplates, PeakRefinement::kNone};
 
 struct RunningStat {
   double last = 0, max = 0, sum = 0;
@@ -128,8 +125,7 @@ void ConeTrackerNodelet::onInit() {
   current.min_axis_ratio = s.min_axis_ratio, current.max_axis_ratio = s.max_axis_ratio;
   current.max_tilt_deg = s.max_tilt_deg;
   current.merge_lateral_frac = s.merge_lateral_frac, current.merge_gap_frac = s.merge_gap_frac;
-  current.peak_refinement =
-      int(std::find(std::begin(kRefinements), std::end(kRefinements), s.refinement) - std::begin(kRefinements));
+  current.peak_refinement = int(s.refinement);  // PeakRefinement's values are the .cfg enum's
   current.reject_bad_outline = s.reject_bad_outline;
   const ConePoseConfig& p = config.pose;
   current.sigma_px = p.sigma_px, current.max_assignment_px = p.max_assignment_px;
@@ -157,7 +153,7 @@ void ConeTrackerNodelet::OnReconfigure(ConeTrackerConfig& cfg, uint32_t /*level*
   s.min_solidity = cfg.min_solidity, s.max_solidity = cfg.max_solidity;
   s.min_axis_ratio = cfg.min_axis_ratio, s.max_axis_ratio = cfg.max_axis_ratio, s.max_tilt_deg = cfg.max_tilt_deg;
   s.merge_lateral_frac = cfg.merge_lateral_frac, s.merge_gap_frac = cfg.merge_gap_frac;
-  s.refinement = kRefinements[std::clamp(cfg.peak_refinement, 0, int(std::size(kRefinements)) - 1)];
+  s.refinement = PeakRefinement(cfg.peak_refinement);  // dynamic_reconfigure keeps it in [0, 2]
   s.reject_bad_outline = cfg.reject_bad_outline;
   ConePoseConfig& p = c.pose;
   p.sigma_px = cfg.sigma_px, p.max_assignment_px = cfg.max_assignment_px, p.chi2_probability = cfg.chi2_probability;

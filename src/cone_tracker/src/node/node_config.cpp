@@ -52,17 +52,6 @@ void Check(bool ok, const std::string& what) {
 
 }  // namespace
 
-PeakRefinement ParsePeakRefinement(const std::string& name) {
-  if (name == "outline") return PeakRefinement::kOutline;
-  if (name == "templates") return PeakRefinement::kTemplates;
-  if (name == "none") return PeakRefinement::kNone;
-  throw std::invalid_argument("parameter ~peak_refinement must be outline, templates or none (got '" + name + "')");
-}
-
-std::string PeakRefinementName(PeakRefinement r) {
-  return r == PeakRefinement::kOutline ? "outline" : r == PeakRefinement::kTemplates ? "templates" : "none";
-}
-
 void ValidateConfig(const NodeConfig& c) {
   Check(!c.fixed_frame.empty(), "fixed_frame must not be empty");
   Check(!c.camera_frame.empty(), "camera_frame must not be empty");
@@ -116,7 +105,11 @@ NodeConfig LoadConfig(const ros::NodeHandle& nh) {
   Get(nh, "line_search_misses", &s.line_search_misses);
   std::string refinement = PeakRefinementName(s.refinement);
   Get(nh, "peak_refinement", &refinement);
-  s.refinement = ParsePeakRefinement(refinement);
+  try {
+    s.refinement = ParsePeakRefinement(refinement);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("parameter ~peak_refinement: ") + e.what());
+  }
   Get(nh, "reject_bad_outline", &s.reject_bad_outline);
   Get(nh, "template_search_px", &s.template_search_px);
   Get(nh, "outline_outlier_px", &s.outline.outlier_px);

@@ -339,6 +339,17 @@ bool UndistortPixels(const CameraModel& camera, std::vector<Eigen::Vector2d>* po
   return true;
 }
 
+PeakRefinement ParsePeakRefinement(const std::string& name) {
+  if (name == "outline") return PeakRefinement::kOutline;
+  if (name == "templates") return PeakRefinement::kTemplates;
+  if (name == "none") return PeakRefinement::kNone;
+  throw std::invalid_argument("peak refinement must be outline, templates or none (got '" + name + "')");
+}
+
+std::string PeakRefinementName(PeakRefinement r) {
+  return r == PeakRefinement::kOutline ? "outline" : r == PeakRefinement::kTemplates ? "templates" : "none";
+}
+
 std::vector<std::string> SegmentationGateNames(uint32_t bits) {
   static const std::pair<uint32_t, const char*> kNames[] = {{kGateArea, "area"},
                                                             {kGateBorder, "border"},

@@ -47,10 +47,6 @@ struct NodeConfig {
   DebugImageConfig debug;
 };
 
-// "outline", "templates", "none" <-> PeakRefinement; throws std::invalid_argument.
-PeakRefinement ParsePeakRefinement(const std::string& name);
-std::string PeakRefinementName(PeakRefinement r);
-
 // Throws std::invalid_argument naming the bad parameter (or layout field).
 // The layout file itself is read by the adapter (LoadLayoutFile).
 NodeConfig LoadConfig(const ros::NodeHandle& private_nh);

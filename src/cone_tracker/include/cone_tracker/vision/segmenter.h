@@ -30,7 +30,13 @@ namespace cone_tracker {
 //    precomputed height x orientation set, scored by normalised
 //    cross-correlation (cone_templates.h).
 //  kNone: the line search's ends.
-enum class PeakRefinement { kNone, kOutline, kTemplates };
+// The values are dynamic_reconfigure's (cfg/ConeTracker.cfg, peak_refinement).
+enum class PeakRefinement { kOutline = 0, kTemplates = 1, kNone = 2 };
+
+// "outline", "templates", "none"; throws std::invalid_argument naming the
+// accepted names for anything else.
+PeakRefinement ParsePeakRefinement(const std::string& name);
+std::string PeakRefinementName(PeakRefinement r);
 
 struct SegmenterConfig {
   HsiBounds hsi;
