@@ -20,16 +20,10 @@ export LIBGL_ALWAYS_SOFTWARE=1
 
 # The bearing of the camera around the cones at the bag's start, atan2(y, x) in `cones` (deg): the
 # sample's three identical cones look the same every 120 degrees, and a user starting the rig says
-# where they stand (heading_prior_deg). Here it comes from the first ground-truth sample.
+# where they stand (heading_prior_deg). Here it comes from the first ground-truth sample, through the
+# helper the 7.2 platform experiment uses for the same purpose.
 start_heading_deg() {
-  /usr/bin/python3 - "$1" <<'PY'
-import math, sys
-import rosbag
-with rosbag.Bag(sys.argv[1]) as bag:
-    for _, m, _ in bag.read_messages(topics=["rig_sim/ground_truth"]):
-        print("%.0f" % math.degrees(math.atan2(m.pose.position.y, m.pose.position.x)))
-        break
-PY
+  /usr/bin/python3 "$(rospack find ar_overlay)/scripts/platform_tables.py" --heading "$1"
 }
 
 # replay INPUT DIR RVIZ LAYOUT HEADING: launch/demo.launch on the uncompressed bag INPUT under Xvfb,
