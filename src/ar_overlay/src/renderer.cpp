@@ -104,6 +104,9 @@ struct Renderer::Gl {
 };
 
 namespace {
+// Up to this many vertices the level of detail is chosen by the nearest
+// vertex, beyond it by the nearest corner of the bounding box (ChooseLevel).
+constexpr size_t kLodMaxExactVertices = 1u << 20;
 // Framebuffer sizes are multiples of this: llvmpipe's tile size, and few reallocations.
 constexpr int kFramebufferStep = 64;
 int RoundUp(int v) { return (v + kFramebufferStep - 1) / kFramebufferStep * kFramebufferStep; }

@@ -36,9 +36,6 @@ struct RenderConfig {
 };
 
 constexpr size_t kLodMinTriangles = 4096;
-// Up to this many vertices the level is chosen by the nearest vertex, beyond
-// it by the nearest corner of the bounding box (renderer.cpp, ChooseLevel).
-constexpr size_t kLodMaxExactVertices = 1u << 20;
 
 class Renderer {
  public:
