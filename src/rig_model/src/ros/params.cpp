@@ -1,0 +1,78 @@
+#include "rig_model/ros/params.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "rig_model/strict_yaml.h"
+
+namespace rig_model {
+namespace {
+
+// Fetches ~name; false when it is absent.
+bool Fetch(const ros::NodeHandle& nh, const std::string& name, XmlRpc::XmlRpcValue* v) {
+  return nh.hasParam(name) && nh.getParam(name, *v);
+}
+
+[[noreturn]] void WrongType(const std::string& name, const std::string& must_be) {
+  throw std::invalid_argument("parameter ~" + name + " must be " + must_be);
+}
+
+}  // namespace
+
+void GetParam(const ros::NodeHandle& nh, const std::string& name, double* value) {
+  XmlRpc::XmlRpcValue v;
+  if (!Fetch(nh, name, &v)) return;
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) {
+    *value = static_cast<double>(v);
+  } else if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) {
+    *value = static_cast<int>(v);
+  } else if (v.getType() == XmlRpc::XmlRpcValue::TypeString && (std::string(v) == "nan" || std::string(v).empty())) {
+    *value = NAN;
+  } else {
+    WrongType(name, "a number");
+  }
+}
+
+void GetParam(const ros::NodeHandle& nh, const std::string& name, int* value) {
+  XmlRpc::XmlRpcValue v;
+  if (!Fetch(nh, name, &v)) return;
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) {
+    *value = static_cast<int>(v);
+  } else if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble && std::isfinite(double(v)) &&
+             double(v) == std::round(double(v))) {
+    *value = static_cast<int>(double(v));
+  } else {
+    WrongType(name, "an integer");
+  }
+}
+
+void GetParam(const ros::NodeHandle& nh, const std::string& name, bool* value) {
+  XmlRpc::XmlRpcValue v;
+  if (!Fetch(nh, name, &v)) return;
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeBoolean) WrongType(name, "true or false");
+  *value = static_cast<bool>(v);
+}
+
+void GetParam(const ros::NodeHandle& nh, const std::string& name, std::string* value) {
+  XmlRpc::XmlRpcValue v;
+  if (!Fetch(nh, name, &v)) return;
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeString) WrongType(name, "a string");
+  *value = static_cast<std::string>(v);
+}
+
+void CheckParamNames(const ros::NodeHandle& nh, const std::vector<std::string>& known) {
+  std::vector<std::string> all;
+  if (!nh.getParamNames(all)) return;  // master unreachable: the loads that follow say so
+  const std::string prefix = nh.getNamespace() + "/";
+  for (const std::string& full : all) {
+    if (full.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string rest = full.substr(prefix.size());
+    const std::string name = rest.substr(0, rest.find('/'));
+    if (std::find(known.begin(), known.end(), name) != known.end()) continue;
+    const std::string nearest = NearestKey(name, known);
+    throw std::invalid_argument("parameter ~" + name + " is unknown" +
+                                (nearest.empty() ? "" : " (did you mean ~" + nearest + "?)"));
+  }
+}
+
+}  // namespace rig_model
