@@ -1,5 +1,5 @@
-// Analytic Jacobians (5.22, 5.37, 5.40) against central differences, and the
-// state prediction against pose_math's quaternion integrators (2.70, 2.71).
+// Analytic Jacobians (5.22) (5.37) (5.40) against central differences, and the
+// state prediction against pose_math's quaternion integrators (2.70) (2.71).
 #include <gtest/gtest.h>
 
 #include <functional>
