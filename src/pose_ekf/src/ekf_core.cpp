@@ -128,7 +128,7 @@ UpdateResult EkfCore::Update(const Eigen::Matrix<double, M, 1>& residual,
     return UpdateResult::kNumericalFailure;
   }
   const MatNM K = ldlt.solve(PHt.transpose()).transpose();  // (5.15)
-  StateVector x = s_.x + K * residual;  // (5.16)
+  StateVector x = s_.x + K * residual;                      // (5.16)
   StateMatrix P(n, n);
   if (config_.joseph_update) {
     StateMatrix IKH = StateMatrix::Identity(n, n) - K * H;
