@@ -101,7 +101,7 @@ Eigen::Vector3d Rotate(const Quat& q, const Eigen::Vector3d& v) {
 }
 
 Eigen::Matrix<double, 3, 4> RotateJacobianWrtQuat(const Quat& q, const Eigen::Vector3d& v) {
-  // R(q) v = (q0² − |q⃗|²) v + 2 (q⃗·v) q⃗ + 2 q0 q⃗ × v  for the general R of 2.36.
+  // R(q) v = (q0² − |q⃗|²) v + 2 (q⃗·v) q⃗ + 2 q0 q⃗ × v  for the general R of (2.36).
   const double q0 = q[0];
   const Eigen::Vector3d qv = q.tail<3>();
   Eigen::Matrix<double, 3, 4> J;

@@ -41,7 +41,7 @@ pose_math::Pose CameraInCones(double distance_m, double azimuth_rad) {
   return {pose_math::QuatFromRotation(R_cones_camera), eye};
 }
 
-// Stacked image residuals u, v of 5.56–5.57 (noise-free) as a function of Θ of T_camera_cones.
+// Stacked image residuals u, v of (5.56) (5.57) (noise-free) as a function of Θ of T_camera_cones.
 Eigen::VectorXd Project(const pose_math::Vector7d& theta, const std::vector<Eigen::Vector3d>& pts) {
   const pose_math::Pose T = pose_math::FromVector(theta);
   Eigen::VectorXd uv(2 * pts.size());
