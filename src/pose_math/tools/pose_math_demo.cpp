@@ -53,7 +53,7 @@ Eigen::VectorXd Project(const pose_math::Vector7d& theta, const std::vector<Eige
   return uv;
 }
 
-// A of 5.59 by central differences (the tracker's library has the analytic one).
+// A of (5.59) by central differences (the tracker's library has the analytic one).
 Eigen::MatrixXd ImageJacobian(const pose_math::Pose& T, const std::vector<Eigen::Vector3d>& pts) {
   const pose_math::Vector7d theta = pose_math::ToVector(T);
   Eigen::MatrixXd A(2 * pts.size(), 7);

@@ -69,7 +69,7 @@ struct EkfConfig {
   // Measurement buffer (section 6.3).
   double max_delay_s = 0.2;          // camera frames up to this late are applied at their stamp
   double time_jump_reset_s = 0.5;    // an IMU stamp this far behind the last one is a time jump: reset
-  double max_predict_step_s = 0.02;  // longer gaps are predicted in sub-steps (first-order 2.70 needs small dt)
+  double max_predict_step_s = 0.02;  // longer gaps are predicted in sub-steps (first-order (2.70) needs small dt)
 
   // Returns an empty string when valid, otherwise a message naming the member.
   std::string Validate() const;
