@@ -206,7 +206,8 @@ ConePoseResult EstimateConePose(const std::vector<ConeDetection>& dets, const st
     out.error = "pose solver failed: " + out.pnp.error;
     return out;
   }
-  // 6.4.1: the squared image residual against chi-square with 2N - 6 dof.
+  // 6.4.1: χ² of the image residuals (6.2), gated by its CDF (6.3), with 2N - 6 dof
+  // (the thesis's k = 2n less the six fitted pose parameters).
   const int dof = out.chi2_dof = int(out.pnp.residuals_px.size()) * 2 - 6;
   for (const Eigen::Vector2d& r : out.pnp.residuals_px) out.chi2 += r.squaredNorm() / (cfg.sigma_px * cfg.sigma_px);
   out.chi2_threshold = dof > 0 ? boost::math::quantile(boost::math::chi_squared(dof), cfg.chi2_probability) : INFINITY;
