@@ -32,6 +32,7 @@ std::string Validate(const CameraIntrinsics& k) {
 
 Eigen::Matrix4f ProjectionFromIntrinsics(double fx, double fy, double cx, double cy, int width, int height,
                                          double near_m, double far_m) {
+  // The pinhole projection u = fu X/Z + u0 (3.6) with K of (3.8), in clip coordinates.
   // NDC x = 2 (u + 0.5) / W - 1 puts pixel centre u at the centre of column u;
   // with y likewise (not flipped), NDC y = -1 is framebuffer row 0 = image top.
   Eigen::Matrix4f P = Eigen::Matrix4f::Zero();

@@ -47,7 +47,7 @@ Eigen::Matrix3d Euler(const Eigen::Vector3d& abg) {
 
 GravityPair MakeGravityPair(const Eigen::Vector3d& accel_mean_imu_m_s2, const Eigen::Matrix3d& R_camera_grid,
                             const Eigen::Vector3d& up_in_grid) {
-  return {accel_mean_imu_m_s2.normalized(), (R_camera_grid * up_in_grid).normalized()};  // 3.28
+  return {accel_mean_imu_m_s2.normalized(), (R_camera_grid * up_in_grid).normalized()};  // (3.28)
 }
 
 double RmsResidualDeg(const std::vector<GravityPair>& pairs, const Eigen::Matrix3d& R) {
@@ -66,8 +66,8 @@ RotationFit FitRotationSvd(const std::vector<GravityPair>& pairs) {
   RotationFit fit;
   if (!Usable(pairs, &fit.message)) return fit;
   Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
-  for (const auto& p : pairs) M += p.up_in_camera.normalized() * p.up_in_imu.normalized().transpose();  // 3.32
-  fit.R_camera_imu = pose_math::NearestRotation(M);  // U diag(1,1,det(UVᵀ)) Vᵀ (3.33, 3.34)
+  for (const auto& p : pairs) M += p.up_in_camera.normalized() * p.up_in_imu.normalized().transpose();  // (3.32)
+  fit.R_camera_imu = pose_math::NearestRotation(M);  // U diag(1,1,det(UVᵀ)) Vᵀ (3.33) (3.34)
   fit.rms_residual_deg = RmsResidualDeg(pairs, fit.R_camera_imu);
   fit.ok = true;
   return fit;
@@ -79,7 +79,7 @@ Eigen::Matrix3d FitLinearLeastSquares(const std::vector<GravityPair>& pairs) {
     CI += p.up_in_camera.normalized() * p.up_in_imu.normalized().transpose();
     II += p.up_in_imu.normalized() * p.up_in_imu.normalized().transpose();
   }
-  return CI * II.completeOrthogonalDecomposition().pseudoInverse();  // 3.30
+  return CI * II.completeOrthogonalDecomposition().pseudoInverse();  // (3.30)
 }
 
 RotationFit FitRotationEuler(const std::vector<GravityPair>& pairs, const Eigen::Matrix3d& initial_guess) {
@@ -92,7 +92,7 @@ RotationFit FitRotationEuler(const std::vector<GravityPair>& pairs, const Eigen:
     Eigen::VectorXd r(3 * n);
     const Eigen::Matrix3d R = Euler(abg);
     for (size_t i = 0; i < n; ++i) {
-      r.segment<3>(3 * i) = R * pairs[i].up_in_imu.normalized() - pairs[i].up_in_camera.normalized();  // 3.31
+      r.segment<3>(3 * i) = R * pairs[i].up_in_imu.normalized() - pairs[i].up_in_camera.normalized();  // (3.31)
     }
     return r;
   };

@@ -2,7 +2,7 @@
 """Real-data checks of the 3.2 calibrations on the BROAD benchmark (real IMU + optical truth).
 
 Skips with a message when ../shared/data/imu is absent. BROAD's optical orientation is
-already aligned to the IMU frame, so the camera-IMU method (3.32-3.34) must find the
+already aligned to the IMU frame, so the camera-IMU method (3.32) (3.33) (3.34) must find the
 identity: the optical body frame plays the camera, the ENU world plays the grid.
 """
 import os
@@ -163,7 +163,7 @@ class RealData(unittest.TestCase):
                 return proc, yaml.safe_load(f)["camera_imu"]
 
     def test_camera_imu_rotation_on_real_data(self):
-        """3.32-3.34 on 700+ real quasi-static poses: identity, then a known rotation, within 0.5 deg."""
+        """(3.32) (3.33) (3.34) on 700+ real quasi-static poses: identity, then a known rotation, within 0.5 deg."""
         poses = self.poses(TRIALS[0])
         self.assertGreater(len(poses), 500)
         proc, out = self.run_tool(poses)

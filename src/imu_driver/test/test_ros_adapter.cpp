@@ -49,7 +49,7 @@ TEST(FillImuMessage, CameraFrameRotatesVectorsAndCovariance) {
   sensor_msgs::Imu m;
   FillImuMessage(Sample(), c, {Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(0.01, 0.02, 0.03), true}, &m);
   EXPECT_EQ(m.header.frame_id, "camera_optical");
-  EXPECT_NEAR(m.angular_velocity.x, 0.2, 1e-12);  // 3.26: ω_C = R ω_I
+  EXPECT_NEAR(m.angular_velocity.x, 0.2, 1e-12);  // (3.26): ω_C = R ω_I
   EXPECT_NEAR(m.angular_velocity.y, 0.1, 1e-12);
   EXPECT_NEAR(m.angular_velocity.z, 0.3, 1e-12);
   EXPECT_NEAR(m.linear_acceleration.y, 0.5, 1e-12);

@@ -82,10 +82,10 @@ int main(int argc, char** argv) {
       << "  parent_frame: " << parent << "\n  child_frame: " << child << "\n"
       << "  translation_m: [0.0, 0.0, 0.0]\n";
   WriteQuat(out, "rotation_xyzw", svd.R_camera_imu);
-  out << "  method: svd_of_moment_matrix  # 3.32-3.34\n"
+  out << "  method: svd_of_moment_matrix  # thesis (3.32) (3.33) (3.34)\n"
       << "  rms_residual_deg: " << svd.rms_residual_deg << "\n";
   WriteQuat(out, "euler_minimisation_rotation_xyzw", euler.R_camera_imu);
-  out << "  euler_minimisation_rms_residual_deg: " << euler.rms_residual_deg << "  # 3.31\n"
+  out << "  euler_minimisation_rms_residual_deg: " << euler.rms_residual_deg << "  # thesis (3.31)\n"
       << "  svd_vs_euler_deg: " << disagreement_deg << "\n"
       << "  poses: " << pairs.size() << "\n";
   if (!out) {

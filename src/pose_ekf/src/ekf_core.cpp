@@ -108,9 +108,9 @@ void EkfCore::Predict(double stamp_s) {
 
 void EkfCore::PredictStep(double dt) {
   const StateMatrix F = TransitionJacobian(s_.x, dt, config_.quat_integration);  // (5.22)
-  s_.x = PropagateState(s_.x, dt, config_.quat_integration);                     // (5.19-5.21)
+  s_.x = PropagateState(s_.x, dt, config_.quat_integration);                     // (5.20)
   NormalizeQuat(s_.x);
-  s_.P = F * s_.P * F.transpose() + ProcessNoise(config_, static_cast<int>(s_.x.size()), dt);  // (5.23)
+  s_.P = F * s_.P * F.transpose() + ProcessNoise(config_, static_cast<int>(s_.x.size()), dt);  // (5.14)
   pose_math::SymmetrizeCovariance(s_.P);
 }
 
@@ -127,14 +127,14 @@ UpdateResult EkfCore::Update(const Eigen::Matrix<double, M, 1>& residual,
   if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || !(ldlt.vectorD().minCoeff() > 0.0)) {
     return UpdateResult::kNumericalFailure;
   }
-  const MatNM K = ldlt.solve(PHt.transpose()).transpose();
-  StateVector x = s_.x + K * residual;
+  const MatNM K = ldlt.solve(PHt.transpose()).transpose();  // (5.15)
+  StateVector x = s_.x + K * residual;                      // (5.16)
   StateMatrix P(n, n);
   if (config_.joseph_update) {
     StateMatrix IKH = StateMatrix::Identity(n, n) - K * H;
-    P = IKH * s_.P * IKH.transpose() + K * R * K.transpose();
+    P = IKH * s_.P * IKH.transpose() + K * R * K.transpose();  // Joseph form of (5.17)
   } else {
-    P = s_.P - K * PHt.transpose();  // (I - K H) P, with H P = (P Hᵀ)ᵀ
+    P = s_.P - K * PHt.transpose();  // (I - K H) P (5.17), with H P = (P Hᵀ)ᵀ
   }
   pose_math::SymmetrizeCovariance(P);
   NormalizeQuat(x);  // (5.41)
@@ -153,7 +153,7 @@ UpdateResult EkfCore::UpdateCamera(const CameraMeasurement& m, double* nis) {
   const Eigen::Vector4d q_pred = s_.x.segment<4>(kQ);
   if ((q_pred - z_q).norm() > (q_pred + z_q).norm()) z_q = -z_q;  // mirrored quaternion (5.5.1)
   Eigen::Matrix<double, 7, 1> y;
-  y << z_q - q_pred, m.T_cones_camera.t - s_.x.segment<3>(kP);  // z - H x (5.24-5.25)
+  y << z_q - q_pred, m.T_cones_camera.t - s_.x.segment<3>(kP);  // z (5.24) - H x (5.25)
   Eigen::Matrix<double, 7, Eigen::Dynamic, 0, 7, kMaxStates> H = Eigen::MatrixXd::Zero(7, n);
   H.block<4, 4>(0, kQ).setIdentity();  // (5.26)
   H.block<3, 3>(4, kP).setIdentity();
@@ -193,6 +193,7 @@ UpdateResult EkfCore::UpdateAccel(const ImuMeasurement& m, double* nis) {
       std::abs(m.accel_camera_m_s2.norm() - config_.gravity_m_s2) > config_.accel_gate_m_s2) {
     return UpdateResult::kGated;
   }
+  // z (5.30) - h(x): (5.36) for orientation only, (5.39) with acceleration.
   const Eigen::Vector3d y = m.accel_camera_m_s2 - AccelModel(s_.x, config_.gravity_m_s2, config_.accel_mode);
   const auto H = AccelJacobian(s_.x, config_.gravity_m_s2, config_.accel_mode);
   const Eigen::Matrix3d R =

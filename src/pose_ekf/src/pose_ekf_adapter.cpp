@@ -61,6 +61,7 @@ ConversionResult ImuFromMsg(const sensor_msgs::Imu& msg, const Eigen::Quaternion
     *why = "IMU message has neither angular velocity nor linear acceleration (both covariances -1)";
     return ConversionResult::kInvalid;
   }
+  // Into the camera frame, origins coincident (3.26).
   out->omega_camera_rad_s = R * ToVector(msg.angular_velocity);
   out->accel_camera_m_s2 = R * ToVector(msg.linear_acceleration);
   const Eigen::Matrix3d gyro_cov = ToMatrix<3>(msg.angular_velocity_covariance);

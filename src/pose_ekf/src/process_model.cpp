@@ -29,7 +29,7 @@ ExactCoefficients Exact(const Eigen::Vector3d& w, double dt) {
 // Vector part of QL(q): the 4×3 map ω -> q ⊗ [0 ω].
 Eigen::Matrix<double, 4, 3> LeftVectorPart(const Quat& q) { return pose_math::LeftMatrix(q).rightCols<3>(); }
 
-// R(q)ᵀ v and its derivative for the general R of 2.36: Rᵀ(q) = R(q*).
+// R(q)ᵀ v and its derivative for the general R of (2.36): Rᵀ(q) = R(q*).
 Eigen::Vector3d RotateInverse(const Quat& q, const Eigen::Vector3d& v) {
   const double q0 = q[0];
   const Eigen::Vector3d qv = -q.tail<3>();
@@ -51,7 +51,7 @@ StateVector PropagateState(const StateVector& x, double dt, QuatIntegration inte
   const Eigen::Vector3d w = x.segment<3>(kW);
   const Eigen::Vector4d q_dot_dir = LeftVectorPart(q) * w;  // QR(Ω) q = q ⊗ [0 ω]
   if (integration == QuatIntegration::kFirstOrder) {
-    y.segment<4>(kQ) = q + 0.5 * dt * q_dot_dir;  // (5.21, 2.70)
+    y.segment<4>(kQ) = q + 0.5 * dt * q_dot_dir;  // (5.21) (2.70)
   } else {
     const ExactCoefficients e = Exact(w, dt);
     y.segment<4>(kQ) = e.c * q + e.s * q_dot_dir;  // (2.71)

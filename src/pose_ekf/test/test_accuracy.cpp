@@ -50,7 +50,7 @@ TEST(Consistency, AverageNeesInsideTheChiSquareInterval) {
   pose_ekf::EkfConfig c = SimConfig();
   c.sigma_omega_rad_s_per_sqrt_s = 0.5;
   c.sigma_a_m_s2_per_sqrt_s = 1.0;
-  // The diagonal Q of 5.23 has no cross terms, so σ_q, σ_v, σ_p stand in for the
+  // The diagonal Q of (5.23) has no cross terms, so σ_q, σ_v, σ_p stand in for the
   // rate and acceleration noise integrated over one IMU step (dt = 10 ms): the
   // continuous-time white-noise-jerk model gives dt²/12, dt²/3, dt⁴/20 factors.
   const double dt = 0.01;
@@ -112,7 +112,7 @@ TEST(Accuracy, VariantsOnTheHandheldSequence) {
   EXPECT_LT(with_bias.rms_rotation_rad, 0.8 * plain.rms_rotation_rad);
   EXPECT_NEAR(with_joseph.rms_rotation_rad, plain.rms_rotation_rad, 0.02 * plain.rms_rotation_rad);
   EXPECT_NEAR(with_exact.rms_rotation_rad, plain.rms_rotation_rad, 0.05 * plain.rms_rotation_rad);
-  // Orientation-only (5.35-5.37) assumes no acceleration whenever |a| ~ g (5.34):
+  // Orientation-only ((5.36) (5.37)) assumes no acceleration whenever |a| ~ g (5.34):
   // under handheld motion that tilts the estimate (why it is not the default).
   EXPECT_GT(thesis_accel.rms_rotation_rad, 2.0 * plain.rms_rotation_rad);
   pose_ekf::MeasurementBuffer b(bias);

@@ -88,7 +88,7 @@ double MadgwickBestInclinationDeg(const std::string& dir, const std::string& tri
   return std::stod(json.substr(json.find(':', key) + 1));
 }
 
-// Orientation-only: no camera, start from gravity, accelerometer model 5.35-5.37.
+// Orientation-only: no camera, start from gravity, accelerometer model (5.36) (5.37).
 // The gate (5.34) is off: on these trials it starves the filter of tilt
 // corrections during fast motion (measured: 15.8 deg vs 3.4 deg on trial 21).
 // σ_accel = 1 m/s² stands for the camera's own acceleration, which the

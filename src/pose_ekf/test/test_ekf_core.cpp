@@ -112,7 +112,7 @@ TEST(EkfCore, AccelerometerGateRejectsFarFromGravity) {
   EXPECT_EQ(ekf.UpdateAccel(m), UpdateResult::kApplied);
 }
 
-// With a tilted initial estimate, gravity alone corrects roll and pitch (5.35-5.37).
+// With a tilted initial estimate, gravity alone corrects roll and pitch ((5.36) (5.37)).
 TEST(EkfCore, AccelerometerCorrectsTiltButNotHeading) {
   EkfConfig c;
   c.accel_mode = AccelMode::kOrientation;

@@ -1,4 +1,4 @@
-// The measurement buffer (6.3): stamp order whatever the arrival order, late
+// The measurement buffer (section 6.3): stamp order whatever the arrival order, late
 // camera frames re-applied from the state history, drops, resets, outages.
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
-// Analytic Jacobians (5.22, 5.37, 5.40) against central differences, and the
-// state prediction against pose_math's quaternion integrators (2.70, 2.71).
+// Analytic Jacobians (5.22) (5.37) (5.40) against central differences, and the
+// state prediction against pose_math's quaternion integrators (2.70) (2.71).
 #include <gtest/gtest.h>
 
 #include <functional>
@@ -67,7 +67,7 @@ TEST(ProcessModel, QuaternionMatchesPoseMathIntegrators) {
   const Eigen::Vector4d exact = PropagateState(x, dt, QuatIntegration::kExact).segment<4>(kQ);
   EXPECT_LT((first - pose_math::IntegrateFirstOrder(q, w, dt)).norm(), 1e-12);
   EXPECT_LT((exact - pose_math::IntegrateExact(q, w, dt)).norm(), 1e-12);
-  EXPECT_NEAR(exact.norm(), 1.0, 1e-12);  // 2.71 preserves the norm
+  EXPECT_NEAR(exact.norm(), 1.0, 1e-12);  // (2.71) preserves the norm
 }
 
 TEST(ProcessModel, ConstantAccelerationTranslation) {
@@ -95,7 +95,7 @@ class AccelJacobianTest : public ::testing::TestWithParam<AccelMode> {};
 TEST_P(AccelJacobianTest, MatchesNumericIncludingNonUnitQuaternion) {
   for (unsigned seed = 1; seed <= 5; ++seed) {
     StateVector x = RandomState(16, seed, 1.0);
-    x.segment<4>(kQ) *= 1.0 + 0.1 * seed;  // the general form 2.36 holds off the unit sphere too
+    x.segment<4>(kQ) *= 1.0 + 0.1 * seed;  // the general form (2.36) holds off the unit sphere too
     const Eigen::MatrixXd H = AccelJacobian(x, 9.81, GetParam());
     const Eigen::MatrixXd Hn =
         NumericJacobian([&](const StateVector& s) { return Eigen::VectorXd(AccelModel(s, 9.81, GetParam())); }, x, 3);

@@ -8,9 +8,9 @@ namespace pose_math {
 
 Eigen::Matrix<double, 7, 6> QuaternionNullSpace(const Quat& q) {
   Vector7d d = Vector7d::Zero();
-  d.head<4>() = NormalizedQuat(q, "QuaternionNullSpace");  // D of 5.69, unit length
+  d.head<4>() = NormalizedQuat(q, "QuaternionNullSpace");  // D of (5.69), unit length
   // Householder reflection H = I − 2 v vᵀ / vᵀv mapping d to ∓e1; its other six
-  // columns are an orthonormal basis of d⊥ (5.70, 5.71).
+  // columns are an orthonormal basis of d⊥ (5.70) (5.71).
   Vector7d v = d;
   v[0] += d[0] >= 0.0 ? 1.0 : -1.0;
   const Matrix7d H = Matrix7d::Identity() - 2.0 * v * v.transpose() / v.squaredNorm();

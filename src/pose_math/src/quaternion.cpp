@@ -24,12 +24,12 @@ Quat NormalizedQuat(const Quat& q, const char* what) {
   return q / std::sqrt(n2);
 }
 
-Quat Conjugate(const Quat& q) { return Quat(q[0], -q[1], -q[2], -q[3]); }
+Quat Conjugate(const Quat& q) { return Quat(q[0], -q[1], -q[2], -q[3]); }  // (2.32)
 
 Quat CanonicalSign(const Quat& q) { return q[0] < 0.0 ? Quat(-q) : q; }
 
 Eigen::Matrix4d LeftMatrix(const Quat& p) {
-  Eigen::Matrix4d m;
+  Eigen::Matrix4d m;  // QL(p) (2.44)
   // clang-format off
   m << p[0], -p[1], -p[2], -p[3],
        p[1],  p[0], -p[3],  p[2],
@@ -40,7 +40,7 @@ Eigen::Matrix4d LeftMatrix(const Quat& p) {
 }
 
 Eigen::Matrix4d RightMatrix(const Quat& q) {
-  Eigen::Matrix4d m;
+  Eigen::Matrix4d m;  // QR(q) (2.44)
   // clang-format off
   m << q[0], -q[1], -q[2], -q[3],
        q[1],  q[0],  q[3], -q[2],
@@ -50,10 +50,10 @@ Eigen::Matrix4d RightMatrix(const Quat& q) {
   return m;
 }
 
-Quat Multiply(const Quat& p, const Quat& q) { return LeftMatrix(p) * q; }
+Quat Multiply(const Quat& p, const Quat& q) { return LeftMatrix(p) * q; }  // p ⊗ q = QL(p) q (2.44)
 
 Eigen::Matrix3d Skew(const Eigen::Vector3d& w) {
-  Eigen::Matrix3d s;
+  Eigen::Matrix3d s;  // (2.50)
   // clang-format off
   s <<   0.0, -w.z(),  w.y(),
        w.z(),    0.0, -w.x(),
@@ -63,7 +63,7 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& w) {
 }
 
 Eigen::Matrix4d OmegaMatrix(const Eigen::Vector3d& omega_body_rad_s) {
-  return RightMatrix(Quat(0.0, omega_body_rad_s.x(), omega_body_rad_s.y(), omega_body_rad_s.z()));
+  return RightMatrix(Quat(0.0, omega_body_rad_s.x(), omega_body_rad_s.y(), omega_body_rad_s.z()));  // (2.69)
 }
 
 namespace {
@@ -77,7 +77,7 @@ void CheckOmegaDt(const Eigen::Vector3d& omega, double dt, const char* what) {
 Quat IntegrateFirstOrder(const Quat& q, const Eigen::Vector3d& omega_body_rad_s, double dt_s) {
   CheckOmegaDt(omega_body_rad_s, dt_s, "IntegrateFirstOrder");
   const Quat qn = NormalizedQuat(q, "IntegrateFirstOrder");
-  return NormalizedQuat(qn + 0.5 * dt_s * OmegaMatrix(omega_body_rad_s) * qn, "IntegrateFirstOrder");
+  return NormalizedQuat(qn + 0.5 * dt_s * OmegaMatrix(omega_body_rad_s) * qn, "IntegrateFirstOrder");  // (2.70)
 }
 
 Quat IntegrateExact(const Quat& q, const Eigen::Vector3d& omega_body_rad_s, double dt_s) {
@@ -88,7 +88,7 @@ Quat IntegrateExact(const Quat& q, const Eigen::Vector3d& omega_body_rad_s, doub
   // sin(|ω|dt/2)/|ω| → dt/2 as |ω| → 0; the series keeps full precision there.
   const double sin_over_w =
       half_angle < 1e-4 ? 0.5 * dt_s * (1.0 - half_angle * half_angle / 6.0) : std::sin(half_angle) / w;
-  const Quat out = std::cos(half_angle) * qn + sin_over_w * (OmegaMatrix(omega_body_rad_s) * qn);
+  const Quat out = std::cos(half_angle) * qn + sin_over_w * (OmegaMatrix(omega_body_rad_s) * qn);  // (2.71)
   return NormalizedQuat(out, "IntegrateExact");
 }
 
@@ -101,7 +101,7 @@ Eigen::Vector3d Rotate(const Quat& q, const Eigen::Vector3d& v) {
 }
 
 Eigen::Matrix<double, 3, 4> RotateJacobianWrtQuat(const Quat& q, const Eigen::Vector3d& v) {
-  // R(q) v = (q0² − |q⃗|²) v + 2 (q⃗·v) q⃗ + 2 q0 q⃗ × v  for the general R of 2.36.
+  // R(q) v = (q0² − |q⃗|²) v + 2 (q⃗·v) q⃗ + 2 q0 q⃗ × v  for the general R of (2.36).
   const double q0 = q[0];
   const Eigen::Vector3d qv = q.tail<3>();
   Eigen::Matrix<double, 3, 4> J;

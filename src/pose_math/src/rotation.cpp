@@ -14,7 +14,7 @@ void CheckFinite(const Eigen::Matrix3d& R, const char* what) {
   }
 }
 
-// (R − Rᵀ) / 2 as a vector: sin θ k (2.24, 2.25).
+// (R − Rᵀ) / 2 as a vector: sin θ k (2.24) (2.25).
 Eigen::Vector3d AntisymmetricPart(const Eigen::Matrix3d& R) {
   return 0.5 * Eigen::Vector3d(R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1));
 }

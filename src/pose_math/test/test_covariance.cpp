@@ -10,7 +10,7 @@
 namespace pose_math {
 namespace {
 
-TEST(Covariance, HouseholderNullSpace) {  // (5.69–5.71)
+TEST(Covariance, HouseholderNullSpace) {  // (5.69) (5.70) (5.71)
   test::Random rnd(30);
   std::vector<Quat> qs = {IdentityQuat(), Quat(-1, 0, 0, 0), Quat(0, 1, 0, 0), Quat(0, 0, 0, -1)};
   for (int n = 0; n < 100; ++n) qs.push_back(rnd.UnitQuat());
@@ -78,7 +78,7 @@ TEST(Covariance, RadialComponentIsRemoved) {
   EXPECT_LT(ProjectToTangent(q, cov7).norm(), 1e-15);
 }
 
-TEST(Covariance, ConstrainedPoseCovarianceSatisfiesTheConstraint) {  // (5.72–5.74)
+TEST(Covariance, ConstrainedPoseCovarianceSatisfiesTheConstraint) {  // (5.68) (5.74)
   test::Random rnd(35);
   const Quat q = rnd.UnitQuat();
   Eigen::MatrixXd A(18, 7);

@@ -62,7 +62,7 @@ TEST(Quaternion, SkewIsTheCrossProduct) {  // (2.50)
 
 TEST(Quaternion, OmegaMatrixIsRightMatrixOfPureQuaternion) {  // (2.69)
   const Eigen::Vector3d w(0.1, -0.2, 0.3);
-  // Rows written out from 2.69: [0 −ωx −ωy −ωz; ωx 0 ωz −ωy; ωy −ωz 0 ωx; ωz ωy −ωx 0].
+  // Rows written out from (2.69): [0 −ωx −ωy −ωz; ωx 0 ωz −ωy; ωy −ωz 0 ωx; ωz ωy −ωx 0].
   Eigen::Matrix4d from_thesis;
   from_thesis << 0, -w.x(), -w.y(), -w.z(), w.x(), 0, w.z(), -w.y(), w.y(), -w.z(), 0, w.x(), w.z(), w.y(), -w.x(), 0;
   EXPECT_LT((OmegaMatrix(w) - from_thesis).norm(), 1e-15);
@@ -104,7 +104,7 @@ TEST(Quaternion, ExactIntegrationAtZeroRateIsIdentity) {
 TEST(Quaternion, RotateJacobianMatchesNumeric) {
   test::Random rnd(4);
   for (int n = 0; n < 20; ++n) {
-    const Quat q = rnd.UnitQuat() * 1.3;  // general (non-unit) quaternion, as 2.36 allows
+    const Quat q = rnd.UnitQuat() * 1.3;  // general (non-unit) quaternion, as (2.36) allows
     const Eigen::Vector3d v = rnd.Vector3();
     const auto f = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
       const double q0 = x[0];

@@ -86,7 +86,7 @@ TEST(Rotation, AngleAxisNearZero) {  // θ = 0: any axis is valid (2.23)
   }
 }
 
-TEST(Rotation, AngleAxisNearPi) {  // θ = π: the diagonal extraction (2.26–2.28)
+TEST(Rotation, AngleAxisNearPi) {  // θ = π: the diagonal extraction (2.26) (2.27) (2.28)
   test::Random rnd(13);
   for (double dtheta : {0.0, 1e-12, 1e-9, 1e-6}) {
     for (int n = 0; n < 1000; ++n) {

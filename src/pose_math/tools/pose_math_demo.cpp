@@ -41,7 +41,7 @@ pose_math::Pose CameraInCones(double distance_m, double azimuth_rad) {
   return {pose_math::QuatFromRotation(R_cones_camera), eye};
 }
 
-// Stacked image residuals u, v of 5.56–5.57 (noise-free) as a function of Θ of T_camera_cones.
+// Stacked image residuals u, v of (5.56) (5.57) (noise-free) as a function of Θ of T_camera_cones.
 Eigen::VectorXd Project(const pose_math::Vector7d& theta, const std::vector<Eigen::Vector3d>& pts) {
   const pose_math::Pose T = pose_math::FromVector(theta);
   Eigen::VectorXd uv(2 * pts.size());
@@ -53,7 +53,7 @@ Eigen::VectorXd Project(const pose_math::Vector7d& theta, const std::vector<Eige
   return uv;
 }
 
-// A of 5.59 by central differences (the tracker's library has the analytic one).
+// A of (5.59) by central differences (the tracker's library has the analytic one).
 Eigen::MatrixXd ImageJacobian(const pose_math::Pose& T, const std::vector<Eigen::Vector3d>& pts) {
   const pose_math::Vector7d theta = pose_math::ToVector(T);
   Eigen::MatrixXd A(2 * pts.size(), 7);

@@ -41,7 +41,7 @@ Eigen::Vector2d CameraModel::Distort(const Eigen::Vector2d& p) const {
   const double x = p.x(), y = p.y();
   const double r2 = x * x + y * y;
   const double radial = 1.0 + r2 * (c.k1 + r2 * (c.k2 + r2 * c.k3));
-  // 3.10: radial term plus the tangential (decentering) term.
+  // (3.10): radial term plus the tangential (decentering) term.
   return {x * radial + 2.0 * c.p1 * x * y + c.p2 * (r2 + 2.0 * x * x),
           y * radial + c.p1 * (r2 + 2.0 * y * y) + 2.0 * c.p2 * x * y};
 }

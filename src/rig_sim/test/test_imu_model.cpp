@@ -16,7 +16,7 @@ double AngleDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
   return pose_math::AngleAxisFromRotation(a.transpose() * b).angle_rad * kRadToDeg;
 }
 
-// Integrates the gyro with 2.71 over duration_s; returns the final error in degrees.
+// Integrates the gyro with (2.71) over duration_s; returns the final error in degrees.
 double GyroIntegrationErrorDeg(const ImuConfig& imu_cfg, const Trajectory& traj, double t0, double duration_s) {
   ImuSimulator imu(imu_cfg, traj);
   ImuSample s;

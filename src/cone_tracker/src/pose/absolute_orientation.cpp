@@ -1,4 +1,4 @@
-// Horn's absolute orientation (4.36–4.43): the rigid motion aligning model
+// Horn's absolute orientation (thesis 4.2.3): the rigid motion aligning model
 // points with the same points estimated in the camera.
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
@@ -13,7 +13,7 @@ pose_math::Pose AbsoluteOrientationSvd(const Eigen::Matrix3Xd& model, const Eige
   const Eigen::Vector3d model_mean = model.rowwise().mean();  // (4.36)
   const Eigen::Vector3d camera_mean = camera.rowwise().mean();
   const Eigen::Matrix3d M = (camera.colwise() - camera_mean) * (model.colwise() - model_mean).transpose();  // (4.38)
-  // U diag(1, 1, det(UVᵀ)) Vᵀ (4.39, 4.40, with the determinant fix of [40]).
+  // U diag(1, 1, det(UVᵀ)) Vᵀ (4.39) (4.40), with the determinant fix of [40].
   const Eigen::Matrix3d R = pose_math::NearestRotation(M);
   return PoseFromRt(R, camera_mean - R * model_mean);  // (4.37)
 }

@@ -1,5 +1,5 @@
 // Eigenvector combinations with shape constraints on the betas, shared by
-// EPnP and the 3-simplex SDP (4.121–4.137).
+// EPnP and the 3-simplex SDP (thesis 4.3.3).
 #include <Eigen/Cholesky>
 
 #include "null_space.h"
@@ -10,7 +10,7 @@ namespace {
 // Vertex j of eigenvector a as a 3-vector.
 Eigen::Vector3d Vertex(const Matrix12d& V, int a, int j) { return V.block<3, 1>(3 * j, a); }
 
-// βᵀQβ for (Σβ_a(v_a,i − v_a,k)) · (Σβ_b(v_b,j − v_b,k)) (4.125, 4.136).
+// βᵀQβ for (Σβ_a(v_a,i − v_a,k)) · (Σβ_b(v_b,j − v_b,k)) (4.125) (4.136).
 QuadraticConstraint DotConstraint(const Matrix12d& V, int count, int i, int j, int k, double target) {
   QuadraticConstraint c;
   for (int a = 0; a < count; ++a)
@@ -50,10 +50,10 @@ std::vector<QuadraticConstraint> DotProductConstraints(const Matrix12d& V, int c
 
 std::vector<QuadraticConstraint> TriadConstraints(const Matrix12d& V, int count) {
   std::vector<QuadraticConstraint> out;
-  out.push_back(DotConstraint(V, count, 1, 2, 0, 0.0));  // legs orthogonal (4.138, 4.139)
+  out.push_back(DotConstraint(V, count, 1, 2, 0, 0.0));  // legs orthogonal (4.138) (4.139)
   out.push_back(DotConstraint(V, count, 1, 3, 0, 0.0));
   out.push_back(DotConstraint(V, count, 2, 3, 0, 0.0));
-  for (int k = 1; k < 4; ++k) out.push_back(DotConstraint(V, count, k, k, 0, 1.0));  // unit legs (4.140, 4.141)
+  for (int k = 1; k < 4; ++k) out.push_back(DotConstraint(V, count, k, k, 0, 1.0));  // unit legs (4.140) (4.141)
   return out;
 }
 
@@ -66,7 +66,7 @@ Eigen::Vector4d GaussNewtonBetas(const std::vector<QuadraticConstraint>& constra
   for (int it = 0; it < iterations; ++it) {
     for (int l = 0; l < m; ++l) {
       const Eigen::Vector4d Qb = constraints[l].Q * beta;
-      f(l) = beta.dot(Qb) - constraints[l].target;  // (4.131, 4.133)
+      f(l) = beta.dot(Qb) - constraints[l].target;  // (4.131) (4.133)
       J.row(l) = 2.0 * Qb.head(count).transpose();  // (4.134)
     }
     const Eigen::VectorXd step = (J.transpose() * J).ldlt().solve(J.transpose() * f);  // (4.132)
@@ -82,7 +82,7 @@ Estimate PoseFromBetas(const Correspondences& c, const std::vector<PointMap>& ma
   Vector12d vertices = Vector12d::Zero();
   for (int a = 0; a < count; ++a) vertices += beta(a) * V.col(a);  // (4.122)
   Eigen::Matrix3Xd camera = CameraPoints(maps, vertices);          // (4.123)
-  if (camera.row(2).mean() < 0.0) camera = -camera;                // the sign ambiguity of 4.153
+  if (camera.row(2).mean() < 0.0) camera = -camera;                // the sign ambiguity of (4.153)
   if (!camera.allFinite()) return Failure("non-finite eigenvector combination");
   Estimate e;
   e.ok = true;

@@ -38,19 +38,19 @@ Eigen::Vector2d ImageResidual(const pose_math::Pose& T, const Eigen::Vector3d& m
                               double fx_px, double fy_px) {
   const Eigen::Vector3d p = pose_math::Transform(T, model);
   return Eigen::Vector2d(fx_px * (p.x() / p.z() - normalized.x()),
-                         fy_px * (p.y() / p.z() - normalized.y()));  // (5.56, 5.57)
+                         fy_px * (p.y() / p.z() - normalized.y()));  // (5.56) (5.57)
 }
 
 Eigen::Vector3d ObjectResidual(const pose_math::Pose& T, const Eigen::Vector3d& model,
                                const Eigen::Vector2d& normalized) {
   return (Eigen::Matrix3d::Identity() - LineOfSightProjector(normalized)) *
-         pose_math::Transform(T, model);  // (5.63–5.65)
+         pose_math::Transform(T, model);  // (5.63) (5.64) (5.65)
 }
 
 Eigen::Matrix<double, 2, 7> ImageJacobianQuat(const pose_math::Pose& T, const Eigen::Vector3d& model, double fx_px,
                                               double fy_px) {
   const Eigen::Matrix<double, 2, 3> P = ProjectionJacobian(pose_math::Transform(T, model), fx_px, fy_px);
-  Eigen::Matrix<double, 2, 7> A;
+  Eigen::Matrix<double, 2, 7> A;  // (5.59)
   A.leftCols<4>() = P * pose_math::RotateJacobianWrtQuat(T.q, model);
   A.rightCols<3>() = P;
   return A;
@@ -59,7 +59,7 @@ Eigen::Matrix<double, 2, 7> ImageJacobianQuat(const pose_math::Pose& T, const Ei
 void ObjectJacobiansQuat(const pose_math::Pose& T, const Eigen::Vector3d& model, const Eigen::Vector2d& normalized,
                          Eigen::Matrix<double, 3, 7>* A, Eigen::Matrix<double, 3, 2>* B) {
   const Eigen::Matrix3d IF = Eigen::Matrix3d::Identity() - LineOfSightProjector(normalized);
-  A->leftCols<4>() = IF * pose_math::RotateJacobianWrtQuat(T.q, model);
+  A->leftCols<4>() = IF * pose_math::RotateJacobianWrtQuat(T.q, model);  // (5.66)
   A->rightCols<3>() = IF;
   *B = -ProjectorDerivative(normalized, pose_math::Transform(T, model));
 }
@@ -87,8 +87,8 @@ void ObjectJacobiansEuler(const pose_math::EulerZyx& e, const Eigen::Vector3d& t
   *B = -ProjectorDerivative(normalized, pose_math::RotationFromEulerZyx(e) * model + t);
 }
 
-// Stacked A (5.49) and B COV(n) Bᵀ: σ² I in image space (5.58), per-point
-// B_i diag((σ/fu)², (σ/fv)²) B_iᵀ in object space (5.61, 5.62).
+// Stacked A (5.49) and block-diagonal (5.55) B COV(n) Bᵀ: σ² I in image space (5.58),
+// per-point B_i diag((σ/fu)², (σ/fv)²) B_iᵀ in object space (5.61) (5.62).
 template <int Params, typename JacobianFn>
 void Stack(const Correspondences& c, ErrorSpace space, double sigma_px, JacobianFn jacobians, Eigen::MatrixXd* A,
            Eigen::MatrixXd* sigma_n) {
@@ -128,7 +128,7 @@ pose_math::Matrix7d PoseCovarianceQuat(const Correspondences& c, const pose_math
         }
       },
       &A, &sigma_n);
-  return pose_math::ConstrainedPoseCovariance(T.q, A, sigma_n);  // (5.52 with 5.74)
+  return pose_math::ConstrainedPoseCovariance(T.q, A, sigma_n);  // (5.52) with (5.74)
 }
 
 Matrix6d PoseCovarianceEuler(const Correspondences& c, const pose_math::Pose& T, ErrorSpace space, double sigma_px) {

@@ -1,4 +1,4 @@
-// Direct Linear Transform, Abdel-Aziz & Karara (4.18–4.35), on normalised image
+// Direct Linear Transform, Abdel-Aziz & Karara (thesis 4.2.2), on normalised image
 // points with the intrinsics "clamped" to fu = fv = 1, u0 = v0 = 0.
 #include <Eigen/QR>
 #include <cmath>
@@ -26,7 +26,7 @@ Estimate Dlt(const Correspondences& c) {
   const Eigen::VectorXd L = qr.solve(W);  // least squares (4.31)
   if (!L.allFinite()) return Failure("dlt: non-finite solution");
   // In our convention p_c = R p_m + t, l1..l11 are the rows of [R t] divided
-  // by tz, so 4.32–4.35 with fu = fv = 1, u0 = v0 = 0 read R = D [l1 l2 l3;
+  // by tz, so with fu = fv = 1, u0 = v0 = 0 the thesis's R and t read R = D [l1 l2 l3;
   // l5 l6 l7; l9 l10 l11], t = D [l4 l8 1] with D² = 1/(l9² + l10² + l11²) (4.33).
   const Eigen::Vector3d r3(L(8), L(9), L(10));
   double D = 1.0 / r3.norm();
@@ -37,7 +37,7 @@ Estimate Dlt(const Correspondences& c) {
   Eigen::Matrix3d R;
   R << L(0), L(1), L(2), L(4), L(5), L(6), L(8), L(9), L(10);
   R *= D;                                                          // (4.32)
-  const Eigen::Vector3d t = D * Eigen::Vector3d(L(3), L(7), 1.0);  // (4.34, 4.35)
+  const Eigen::Vector3d t = D * Eigen::Vector3d(L(3), L(7), 1.0);  // (4.34) (4.35)
   Estimate e;
   e.rotation_nonorthogonality = (R.transpose() * R - Eigen::Matrix3d::Identity()).norm();
   if (R.determinant() <= 0.0) return Failure("dlt: the recovered rotation has a non-positive determinant");

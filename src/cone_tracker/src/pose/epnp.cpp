@@ -47,7 +47,7 @@ std::vector<Eigen::Vector4d> LinearBetas(const EpnpSetup& s) {
         for (int b = a; b < count; ++b) L(l, col++) = (a == b ? 1.0 : 2.0) * d[l].Q(a, b);
       rho(l) = d[l].target;
     }
-    const Eigen::VectorXd bb = L.colPivHouseholderQr().solve(rho);  // products β_aβ_b, a ≤ b
+    const Eigen::VectorXd bb = L.colPivHouseholderQr().solve(rho);  // products β_aβ_b, a ≤ b (4.127) (4.128)
     Eigen::Vector4d beta = Eigen::Vector4d::Zero();
     const double b11 = std::abs(bb(0));
     beta(0) = std::sqrt(b11);

@@ -1,5 +1,5 @@
-// Modified DLT + Gauss–Newton (4.50–4.87): the 12 coefficients of an
-// unconstrained linear transform L = [R t] (4.55–4.59) span the null space of
+// Modified DLT + Gauss–Newton (thesis 4.3.1): the 12 coefficients of an
+// unconstrained linear transform L = [R t] (4.55) (4.56) span the null space of
 // the measurement matrix; scale and absolute orientation make it a pose, and
 // Gauss–Newton on the reduced 12×12 matrix enforces the rotation.
 #include "null_space.h"
@@ -22,7 +22,7 @@ std::vector<PointMap> MdltPointMaps(const Eigen::Matrix3Xd& model) {
 
 }  // namespace
 
-// L(Θ) = [R(Θ) t(Θ)] (4.82–4.84).
+// L(Θ) = [R(Θ) t(Θ)] (4.82) over Θ = [α β γ tx ty tz] (4.83), row-major (4.84).
 void MdltParam(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const Eigen::Matrix3d dR[3], Vector12d* v,
                Eigen::Matrix<double, 12, 6>* dv) {
   for (int r = 0; r < 3; ++r) {
@@ -49,9 +49,9 @@ Estimate MdltLinear(const Correspondences& c, ErrorSpace space) {
   const Estimate check = CheckPoints(c, "mdlt");
   if (!check.ok) return check;
   const std::vector<PointMap> maps = MdltPointMaps(c.model);
-  const NullSpace ns = DecomposeMeasurementMatrix(MeasurementMatrix(c, maps, space));  // (4.62–4.73)
-  const Vector12d L = ns.V.col(0);                                                     // (4.73, 4.74)
-  return ScaleAndAlign(c.model, CameraPoints(maps, L));                                // (4.75–4.79)
+  const NullSpace ns = DecomposeMeasurementMatrix(MeasurementMatrix(c, maps, space));  // (4.69) (4.73)
+  const Vector12d L = ns.V.col(0);                                                     // (4.74)
+  return ScaleAndAlign(c.model, CameraPoints(maps, L));                                // (4.75)
 }
 
 Estimate MdltGaussNewton(const Correspondences& c, ErrorSpace space, const pose_math::Pose& initial,

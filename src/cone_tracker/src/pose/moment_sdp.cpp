@@ -1,8 +1,8 @@
 // CSDP wrapper for the 3-simplex SDP. With z the degree-2 monomials β_aβ_b
 // (a ≤ b) and E = Σ_l (c_lᵀz − d_l)², the moment matrix M2 = X2 X2ᵀ with
-// X2 = [1 zᵀ]ᵀ (4.150, 4.152) makes E linear: E = tr(W M2) (4.143, 4.146,
-// 4.147). The LMIs are M0 = diag(β_a² − β_b²) ⪰ 0 (the first eigenvector
-// dominates), M1 = X1 X1ᵀ ⪰ 0 with X1 = β (4.149, 4.151) and M2 ⪰ 0, tied
+// X2 = [1 zᵀ]ᵀ (4.150) (4.152) makes E linear: E = tr(W M2) (4.143) (4.146)
+// (4.147). The LMIs are M0 = diag(β_a² − β_b²) ⪰ 0 (the first eigenvector
+// dominates), M1 = X1 X1ᵀ ⪰ 0 with X1 = β (4.149) (4.151) and M2 ⪰ 0, tied
 // together by equalities between entries that are the same monomial.
 #include "moment_sdp.h"
 
@@ -137,7 +137,7 @@ bool SolveMomentRelaxation(const std::vector<QuadraticConstraint>& constraints, 
         eqs.push_back({{{3, i + 2, j + 2, 1.0}, {3, found->second.first, found->second.second, -1.0}}, 0.0});
       }
     }
-  // M1(a, b) = z_ab = M2(1, z_ab) (4.151, 4.152).
+  // M1(a, b) = z_ab = M2(1, z_ab) (4.151) (4.152).
   for (int a = 0; a < count; ++a)
     for (int b = a; b < count; ++b) eqs.push_back({{{2, a + 1, b + 1, 1.0}, {3, 1, index_of(a, b) + 2, -1.0}}, 0.0});
   // M0: β_1² − β_a² (4.151).

@@ -1,4 +1,4 @@
-// The polynomial SDP of 4.142–4.153 (Lasserre's moment relaxation, solved
+// The polynomial SDP of thesis 4.3.3.5 (Lasserre's moment relaxation, solved
 // with CSDP): minimise Σ_l (βᵀQ_lβ − d_l)² over up to four betas.
 #pragma once
 #include <Eigen/Core>

@@ -18,11 +18,11 @@ Eigen::MatrixXd MeasurementMatrix(const Correspondences& c, const std::vector<Po
   for (int i = 0; i < n; ++i) {
     const double x = c.normalized(0, i), y = c.normalized(1, i);
     if (space == ErrorSpace::kImage) {
-      // e_u = fu X + (u0 − u) Z = fu (X − x Z) (4.50, 4.51).
+      // e_u = fu X + (u0 − u) Z = fu (X − x Z) (4.50) (4.51).
       M.row(2 * i) = c.fx_px * (maps[i].row(0) - x * maps[i].row(2));
       M.row(2 * i + 1) = c.fy_px * (maps[i].row(1) - y * maps[i].row(2));
     } else {
-      // e = (F_i − I) p_c (4.52–4.54).
+      // e = (F_i − I) p_c (4.52) (4.53) (4.54).
       M.middleRows<3>(3 * i) = (LineOfSightProjector(c.normalized.col(i)) - Eigen::Matrix3d::Identity()) * maps[i];
     }
   }

@@ -1,4 +1,4 @@
-// Orthogonal Iteration Algorithm, Lu & Hager (4.44–4.49): alternate the optimal
+// Orthogonal Iteration Algorithm, Lu & Hager (thesis 4.2.4): alternate the optimal
 // translation for a rotation with absolute orientation onto the points
 // projected on their lines of sight, lowering the object-space error (4.2).
 #include <Eigen/LU>
@@ -52,7 +52,7 @@ Estimate OrthogonalIteration(const Correspondences& c, const pose_math::Pose* in
       break;
     }
     for (int i = 0; i < n; ++i) projected.col(i) = F[i] * (R * c.model.col(i) + t);  // (4.47)
-    R = RotationOf(AbsoluteOrientationSvd(c.model, projected));                      // (4.48, 4.49)
+    R = RotationOf(AbsoluteOrientationSvd(c.model, projected));                      // (4.48) (4.49)
     t = optimal_t(R);
     const double new_error = object_error(R, t);
     const bool small_change = std::abs(error - new_error) <= relative_tolerance * error;

@@ -1,4 +1,4 @@
-// Perspective-3-point, Fischler & Bolles (4.7–4.15), with the remaining points
+// Perspective-3-point, Fischler & Bolles (thesis 4.2.1), with the remaining points
 // choosing among the (up to four) roots.
 #include <Eigen/Eigenvalues>
 #include <array>
@@ -117,7 +117,7 @@ Estimate P3pFischlerBolles(const Correspondences& c) {
     camera3.col(0) = a * w[0];  // (4.15)
     camera3.col(1) = x * a * w[1];
     camera3.col(2) = y * a * w[2];
-    // Congruent-triangle alignment (4.16, 4.17) done by absolute orientation.
+    // Absolute orientation in place of the congruent-triangle alignment (4.16) (4.17).
     const pose_math::Pose T = AbsoluteOrientationSvd(model3, camera3);
     if (MinDepth(c.model, T) <= 0.0) continue;
     const double cost = ImageSpaceCost(c, T);

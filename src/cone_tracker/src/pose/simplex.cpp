@@ -1,4 +1,4 @@
-// 3-simplex + Gauss–Newton (4.88–4.120): the camera coordinates of the four
+// 3-simplex + Gauss–Newton (thesis 4.3.2): the camera coordinates of the four
 // vertices of a unit orthogonal triad {S} on the model's principal axes span
 // the null space; Gauss–Newton moves the rigid triad.
 #include <Eigen/Eigenvalues>
@@ -27,7 +27,7 @@ bool MakeTriad(const Eigen::Matrix3Xd& model, Triad* triad) {
   return true;
 }
 
-// Vertices of the triad in the camera from C_S R and Ps1 (4.116–4.118).
+// Vertices of the triad in the camera from C_S R (4.116) and Ps1 = t (4.117).
 void TriadParam(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const Eigen::Matrix3d dR[3], Vector12d* v,
                 Eigen::Matrix<double, 12, 6>* dv) {
   v->head<3>() = t;
@@ -53,7 +53,7 @@ Estimate SimplexLinear(const Correspondences& c, ErrorSpace space) {
   Triad triad;
   const Estimate check = Prepare(c, &triad);
   if (!check.ok) return check;
-  const NullSpace ns = DecomposeMeasurementMatrix(MeasurementMatrix(c, triad.maps, space));  // (4.102–4.106)
+  const NullSpace ns = DecomposeMeasurementMatrix(MeasurementMatrix(c, triad.maps, space));  // (4.99)
   const Vector12d Ps = ns.V.col(0);                                                          // (4.107)
   return ScaleAndAlign(c.model, CameraPoints(triad.maps, Ps));                               // (4.108)
 }

@@ -1,6 +1,6 @@
-// 3-simplex SDP (4.121–4.153, appendix 9.2): the triad's camera vertices as a
+// 3-simplex SDP (thesis 4.3.3 and appendix 9.2): the triad's camera vertices as a
 // combination of the 2, 3 or 4 null-space eigenvectors of smallest eigenvalue
-// (4.121, 4.122), the betas from the polynomial SDP on distance, dot-product or
+// (4.121) (4.122), the betas from the polynomial SDP on distance, dot-product or
 // orthogonal-triad constraints, then absolute orientation (4.123).
 #include "moment_sdp.h"
 #include "null_space.h"
@@ -30,7 +30,7 @@ Estimate SimplexSdp(const Correspondences& c, ErrorSpace space, int eigenvectors
   std::string error;
   if (!SolveMomentRelaxation(constraints, eigenvectors, &beta, &error)) return Failure(error);
   // The SDP is solved to the solver's tolerance (~1e-8); a few Gauss–Newton
-  // steps on the same constraints (4.131–4.134) polish the betas.
+  // steps (4.132) on the same constraints polish the betas.
   const Eigen::Vector4d polished = GaussNewtonBetas(constraints, eigenvectors, beta, 5);
   Estimate e = PoseFromBetas(c, triad.maps, V, polished.allFinite() ? polished : beta, eigenvectors);
   e.iterations = 5;

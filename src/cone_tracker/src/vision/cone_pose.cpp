@@ -112,12 +112,12 @@ PnpResult Solve(const std::vector<ConeDetection>& dets, const std::vector<ConeMo
 
 std::array<Eigen::Vector3d, 3> CorrectedModelPoints(const ConeModel& cone, const Eigen::Vector3d& eye) {
   Eigen::Vector3d toward = eye - cone.base_m;
-  toward.z() = 0.0;
+  toward.z() = 0.0;  // COP' in the base plane (3.16)
   const double n = toward.norm();
-  toward = n > 1e-9 ? Eigen::Vector3d(toward / n) : Eigen::Vector3d::Zero();
-  const double r = cone.tau * cone.height_m;
+  toward = n > 1e-9 ? Eigen::Vector3d(toward / n) : Eigen::Vector3d::Zero();  // (3.17)
+  const double r = cone.tau * cone.height_m;                                  // (3.13)
   const Eigen::Vector3d up(0, 0, cone.height_m);
-  return {cone.base_m + up, cone.base_m + 0.5 * up + 0.5 * r * toward, cone.base_m + r * toward};  // (3.1.4)
+  return {cone.base_m + up, cone.base_m + 0.5 * up + 0.5 * r * toward, cone.base_m + r * toward};  // (3.18)
 }
 
 bool LayoutHasRotationalSymmetry(const std::vector<ConeModel>& cones) {
@@ -206,7 +206,8 @@ ConePoseResult EstimateConePose(const std::vector<ConeDetection>& dets, const st
     out.error = "pose solver failed: " + out.pnp.error;
     return out;
   }
-  // 6.4.1: the squared image residual against chi-square with 2N - 6 dof.
+  // 6.4.1: χ² of the image residuals (6.2), gated by its CDF (6.3), with 2N - 6 dof
+  // (the thesis's k = 2n less the six fitted pose parameters).
   const int dof = out.chi2_dof = int(out.pnp.residuals_px.size()) * 2 - 6;
   for (const Eigen::Vector2d& r : out.pnp.residuals_px) out.chi2 += r.squaredNorm() / (cfg.sigma_px * cfg.sigma_px);
   out.chi2_threshold = dof > 0 ? boost::math::quantile(boost::math::chi_squared(dof), cfg.chi2_probability) : INFINITY;

@@ -31,7 +31,7 @@ struct RotationFit {
   int iterations = 0;             // for the iterative method
 };
 
-// The SVD of the moment matrix M = Σ a_C a_Iᵀ (3.32–3.34), with the
+// The SVD of the moment matrix M = Σ a_C a_Iᵀ (3.32) (3.33) (3.34), with the
 // determinant fix so the result is a proper rotation. Needs two or more
 // non-parallel gravity directions.
 RotationFit FitRotationSvd(const std::vector<GravityPair>& pairs);

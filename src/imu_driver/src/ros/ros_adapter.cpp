@@ -98,13 +98,13 @@ void FillImuMessage(const ImuSample& s, const DriverConfig& config, const GyroCa
   msg->header.stamp.fromSec(std::max(0.0, s.stamp_s - shift_s));
   Eigen::Vector3d omega(s.si.omega_imu_rad_s[0], s.si.omega_imu_rad_s[1], s.si.omega_imu_rad_s[2]);
   Eigen::Vector3d accel(s.si.accel_imu_m_s2[0], s.si.accel_imu_m_s2[1], s.si.accel_imu_m_s2[2]);
-  if (config.subtract_gyro_bias) omega -= gyro.bias_rad_s;  // 3.27 with v_gyro left in
+  if (config.subtract_gyro_bias) omega -= gyro.bias_rad_s;  // (3.27) with v_gyro left in
   Eigen::Matrix3d cov_omega = gyro.sigma_rad_s.cwiseAbs2().asDiagonal();
   Eigen::Matrix3d cov_accel = config.accel_noise_sigma_m_s2.cwiseAbs2().asDiagonal();
   msg->header.frame_id = config.frame_id;
   if (config.publish_in_camera_frame) {
     const Eigen::Matrix3d R = config.q_camera_imu.toRotationMatrix();
-    omega = R * omega;  // 3.26, coincident origins
+    omega = R * omega;  // (3.26), coincident origins
     accel = R * accel;
     cov_omega = R * cov_omega * R.transpose();
     cov_accel = R * cov_accel * R.transpose();

@@ -1,4 +1,4 @@
-// Configuration of the pose EKF (thesis chapter 5) and its measurement buffer (6.3).
+// Configuration of the pose EKF (thesis chapter 5) and its measurement buffer (section 6.3).
 // One struct, units in the names. The ROS adapter fills it from parameters
 // (LoadConfig) and the core validates it (Validate) so bad values are refused
 // with a message naming the member.
@@ -8,8 +8,8 @@
 
 namespace pose_ekf {
 
-enum class QuatIntegration { kFirstOrder, kExact };                    // 2.70 (thesis default) or 2.71
-enum class AccelMode { kOff, kOrientation, kPositionAndOrientation };  // 5.35-5.37 / 5.38-5.40
+enum class QuatIntegration { kFirstOrder, kExact };                    // (2.70) (thesis default) or (2.71)
+enum class AccelMode { kOff, kOrientation, kPositionAndOrientation };  // h, H: (5.36) (5.37) / (5.39) (5.40)
 
 struct EkfConfig {
   // Process noise, variance per second (5.23) expressed as sigma per sqrt(second).
@@ -20,7 +20,7 @@ struct EkfConfig {
   double sigma_a_m_s2_per_sqrt_s = 6.0;  // acceleration random walk (jerk)
   double sigma_gyro_bias_rad_s_per_sqrt_s = 1e-4;
 
-  // Measurement noise of the IMU (constant, 5.6 first paragraph).
+  // Measurement noise of the IMU (constant, section 5.6 first paragraph).
   double sigma_gyro_rad_s = 0.01;
   double sigma_accel_m_s2 = 0.2;
   bool use_message_imu_covariance = false;  // prefer the sensor_msgs/Imu covariances when given
@@ -28,8 +28,8 @@ struct EkfConfig {
   // Which updates run (the thesis's GUI switches).
   bool use_camera = true;
   bool use_gyro = true;
-  // Position+orientation (5.38-5.40) by default: it models the camera's own
-  // acceleration, while orientation-only (5.35-5.37, the thesis's choice) tilts
+  // Position+orientation (5.39) (5.40) by default: it models the camera's own
+  // acceleration, while orientation-only ((5.36) (5.37), the thesis's choice) tilts
   // the estimate by a/g under handheld motion the gate cannot see (a horizontal
   // 1 m/s² changes |z| by only 0.05 m/s²). Measured in test_accuracy.
   AccelMode accel_mode = AccelMode::kPositionAndOrientation;
@@ -40,8 +40,8 @@ struct EkfConfig {
   // previous IMU sample (a sampled, low-pass-filtered MEMS gyro; rig_sim's
   // Crista model; BROAD, whose Madgwick results integrate it that way), so it
   // is applied before the time update over that interval and (5.21)
-  // integrates the rate measured over it. false (the thesis's order, 5.19 then
-  // 5.27): applied after, as the rate at t, which the quaternion then lags by
+  // integrates the rate measured over it. false (the thesis's order, (5.19) then
+  // (5.27)): applied after, as the rate at t, which the quaternion then lags by
   // one IMU period unless the samples are stamped at the interval's midpoint
   // (test_rig_sim does that). Measured in test_broad and the README.
   bool gyro_is_interval_mean = false;
@@ -66,10 +66,10 @@ struct EkfConfig {
       0.1;  // arbitrary heading, but a 4D quaternion covariance must stay small to stay linear
   double init_sigma_p_m = 1.0;
 
-  // Measurement buffer (6.3).
+  // Measurement buffer (section 6.3).
   double max_delay_s = 0.2;          // camera frames up to this late are applied at their stamp
   double time_jump_reset_s = 0.5;    // an IMU stamp this far behind the last one is a time jump: reset
-  double max_predict_step_s = 0.02;  // longer gaps are predicted in sub-steps (first-order 2.70 needs small dt)
+  double max_predict_step_s = 0.02;  // longer gaps are predicted in sub-steps (first-order (2.70) needs small dt)
 
   // Returns an empty string when valid, otherwise a message naming the member.
   std::string Validate() const;

@@ -40,12 +40,14 @@ class EkfCore {
   void Reset() { initialized_ = false; }
   bool initialized() const { return initialized_; }
 
-  // Time update (5.19-5.23) to stamp_s; gaps longer than max_predict_step_s are
-  // sub-stepped. A stamp before the current one is ignored (the buffer rewinds).
+  // Time update ((5.20), and (5.14) with F (5.22) and Q (5.23)) to stamp_s;
+  // gaps longer than max_predict_step_s are sub-stepped. A stamp before the
+  // current one is ignored (the buffer rewinds).
   void Predict(double stamp_s);
 
-  // Measurement updates (5.24-5.40) at the current time. nis, if given,
-  // receives the normalised innovation squared yᵀ S⁻¹ y.
+  // Measurement updates (5.15) (5.16) (5.17) of the camera (5.24), gyro (5.27)
+  // and accelerometer (5.30) at the current time. nis, if given, receives the
+  // normalised innovation squared yᵀ S⁻¹ y.
   UpdateResult UpdateCamera(const CameraMeasurement& m, double* nis = nullptr);
   UpdateResult UpdateGyro(const ImuMeasurement& m, double* nis = nullptr);
   UpdateResult UpdateAccel(const ImuMeasurement& m, double* nis = nullptr);

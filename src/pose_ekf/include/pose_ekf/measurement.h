@@ -8,7 +8,7 @@
 namespace pose_ekf {
 
 // The camera pose in the cones frame, T_cones_camera (M_C H), at exposure time,
-// with its constrained 7x7 covariance over (q0 qx qy qz px py pz) (5.24, 5.6.4).
+// with its constrained 7x7 covariance over (q0 qx qy qz px py pz) (5.24), section 5.6.4.
 struct CameraMeasurement {
   double stamp_s = 0.0;
   pose_math::Pose T_cones_camera;

@@ -1,7 +1,7 @@
 // Pose covariance forms: the thesis's constrained 7×7 and ROS's 6×6.
 //
 // Thesis (5.6.4): Σ7 over Θ = (q0 qx qy qz tx ty tz), with the quaternion error
-// constrained to the hyperplane tangent to the unit sphere at q̂ (5.68–5.69).
+// constrained to the hyperplane tangent to the unit sphere at q̂ (5.68) (5.69).
 //
 // ROS (geometry_msgs/PoseWithCovariance): Σ6 over (x y z rx ry rz), where
 // (rx ry rz) are small rotations about the fixed axes of the parent frame
@@ -21,15 +21,15 @@
 
 namespace pose_math {
 
-// Orthonormal basis of the null space of D = [q0 qx qy qz 0 0 0] (5.69, 5.70),
+// Orthonormal basis of the null space of D = [q0 qx qy qz 0 0 0] (5.69) (5.70),
 // computed with a Householder reflection as the thesis does. The result N is
 // 7×6 with D N = 0 (5.71) and Nᵀ N = I.
 Eigen::Matrix<double, 7, 6> QuaternionNullSpace(const Quat& q);
 
-// Constrained least-squares covariance (5.72–5.74): for the stacked pose
+// Constrained least-squares covariance (5.74) of (5.72): for the stacked pose
 // Jacobian A (m×7) and the measurement noise covariance already folded in as
-// C = N ((AN)ᵀ(AN))⁻¹ (AN)ᵀ, returns Σ7 = C Σn Cᵀ (5.52 with 5.74). Here
-// sigma_n is the m×m noise covariance of the residuals (B COV(n) Bᵀ of 5.52).
+// C = N ((AN)ᵀ(AN))⁻¹ (AN)ᵀ, returns Σ7 = C Σn Cᵀ (5.52) with (5.74). Here
+// sigma_n is the m×m noise covariance of the residuals (B COV(n) Bᵀ of (5.52)).
 // Throws std::invalid_argument if A N is rank deficient.
 Matrix7d ConstrainedPoseCovariance(const Quat& q, const Eigen::MatrixXd& A, const Eigen::MatrixXd& sigma_n);
 

@@ -44,7 +44,7 @@ Pose Invert(const Pose& T_a_b);
 Pose Compose(const Pose& T_a_b, const Pose& T_b_c);
 
 // Jacobians of Invert and Compose with respect to Θ, for covariance
-// propagation Σ' = J Σ Jᵀ (first order, as in 5.52).
+// propagation Σ' = J Σ Jᵀ (first order, as in (5.52)).
 Matrix7d InvertJacobian(const Pose& T_a_b);
 void ComposeJacobians(const Pose& T_a_b, const Pose& T_b_c, Matrix7d* J_wrt_ab, Matrix7d* J_wrt_bc);
 

@@ -61,8 +61,8 @@ Quat IntegrateExact(const Quat& q, const Eigen::Vector3d& omega_body_rad_s, doub
 // Rotates v by q: the vector part of q ⊗ [0 v] ⊗ q* (2.42).
 Eigen::Vector3d Rotate(const Quat& q, const Eigen::Vector3d& v);
 
-// d(R(q) v)/dq for a general (non-unit) q with R(q) from 2.36: a 3×4 matrix.
-// Used for covariance propagation and for the pose Jacobians of 5.59 and 5.66.
+// d(R(q) v)/dq for a general (non-unit) q with R(q) from (2.36): a 3×4 matrix.
+// Used for covariance propagation and for the pose Jacobians of (5.59) and (5.66).
 Eigen::Matrix<double, 3, 4> RotateJacobianWrtQuat(const Quat& q, const Eigen::Vector3d& v);
 
 }  // namespace pose_math

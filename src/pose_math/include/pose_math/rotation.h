@@ -17,7 +17,7 @@ namespace pose_math {
 // R(q) for a unit quaternion (2.37). Non-unit input is normalised first.
 Eigen::Matrix3d RotationFromQuat(const Quat& q);
 
-// Quaternion of R by the largest-diagonal extraction (2.38, 2.39), with q0 >= 0.
+// Quaternion of R by the largest-diagonal extraction (2.38) (2.39), with q0 >= 0.
 Quat QuatFromRotation(const Eigen::Matrix3d& R);
 
 // Euler angle-axis. angle_rad is in [0, π]; axis is a unit vector.
@@ -30,10 +30,10 @@ struct AngleAxis {
 // zero axis is allowed only with θ = 0. Throws on non-finite input.
 Eigen::Matrix3d RotationFromAngleAxis(const AngleAxis& aa);
 
-// Angle-axis of R (2.23–2.28). θ is computed as atan2(|R − Rᵀ|/2, (tr R − 1)/2),
-// the same angle as 2.23 without acos's loss of precision near 0 and π. For
-// θ ≤ π/2 the axis comes from R − Rᵀ (2.24, 2.25); above π/2 it comes from the
-// largest diagonal entry of the symmetric part (2.26–2.28, generalised from
+// Angle-axis of R (section 2.2.2). θ is computed as atan2(|R − Rᵀ|/2, (tr R − 1)/2),
+// the same angle as (2.23) without acos's loss of precision near 0 and π. For
+// θ ≤ π/2 the axis comes from R − Rᵀ (2.24) (2.25); above π/2 it comes from the
+// largest diagonal entry of the symmetric part ((2.26) (2.27) (2.28), generalised from
 // θ = π to any θ), with its sign taken from R − Rᵀ. At θ = 0 the axis is
 // undefined and UnitX is returned; at θ = π both ±k are valid and the one with
 // a non-negative largest component is returned.
@@ -41,7 +41,7 @@ AngleAxis AngleAxisFromRotation(const Eigen::Matrix3d& R);
 
 // q0 = cos(θ/2), q⃗ = sin(θ/2) k (2.34).
 Quat QuatFromAngleAxis(const AngleAxis& aa);
-// Inverse of 2.34, θ in [0, π] (the sign of q is chosen so that q0 >= 0).
+// Inverse of (2.34), θ in [0, π] (the sign of q is chosen so that q0 >= 0).
 AngleAxis AngleAxisFromQuat(const Quat& q);
 
 // Rotation vector r = θ k and back (exponential / logarithm maps). Used for the
@@ -70,8 +70,8 @@ Eigen::Matrix3d RotationFromEulerZyx(const EulerZyx& e);
 EulerZyx EulerZyxFromRotation(const Eigen::Matrix3d& R);
 
 // The rotation closest to M in the Frobenius norm: U diag(1, 1, det(UVᵀ)) Vᵀ
-// from the SVD M = U Σ Vᵀ (4.39, 4.40, with the determinant fix of the
-// thesis's reference [40]). Throws on non-finite M.
+// from the SVD M = U Σ Vᵀ (4.39) (4.40), with the determinant fix of the
+// thesis's reference [40]. Throws on non-finite M.
 Eigen::Matrix3d NearestRotation(const Eigen::Matrix3d& M);
 
 }  // namespace pose_math

@@ -34,7 +34,7 @@ Estimate Failure(const std::string& message);
 // --- geometry helpers (geometry.cpp) ---
 pose_math::Pose PoseFromRt(const Eigen::Matrix3d& R, const Eigen::Vector3d& t);
 Eigen::Matrix3d RotationOf(const pose_math::Pose& T);
-// Orthogonal projector onto the line of sight of w (4.3, 4.5).
+// Orthogonal projector F = w wᵀ / (wᵀ w) onto the line of sight of w (4.3).
 Eigen::Matrix3d LineOfSightProjector(const Eigen::Vector2d& normalized);
 // Mean squared reprojection error in pixels (4.1) and object-space error (4.2).
 double ImageSpaceCost(const Correspondences& c, const pose_math::Pose& T);
@@ -47,8 +47,8 @@ Eigen::Vector3d ModelSpread(const Eigen::Matrix3Xd& model);
 void EulerRotationDerivatives(double alpha, double beta, double gamma, Eigen::Matrix3d dR[3]);
 
 // --- absolute orientation, Horn (absolute_orientation.cpp) ---
-// T with camera ≈ R model + t. SVD with determinant fix (4.36–4.40) or the
-// quaternion eigenvector (4.41–4.43).
+// T with camera ≈ R model + t (thesis 4.2.3). SVD with determinant fix (4.2.3.1)
+// or the quaternion eigenvector (4.2.3.2).
 pose_math::Pose AbsoluteOrientationSvd(const Eigen::Matrix3Xd& model, const Eigen::Matrix3Xd& camera);
 pose_math::Pose AbsoluteOrientationQuat(const Eigen::Matrix3Xd& model, const Eigen::Matrix3Xd& camera);
 

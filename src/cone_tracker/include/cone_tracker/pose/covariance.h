@@ -1,8 +1,8 @@
 // First-order pose covariance from image noise (section 5.6): image-space
-// (5.42, 5.56–5.59) and object-space (5.43, 5.60–5.66) error functions, with
+// (5.56) (5.57) and object-space (5.63) (5.64) (5.65) error functions, with
 // the quaternion pose Θ = [q0 qx qy qz tx ty tz] (5.44) under the unit-norm
-// constraint (5.67–5.74, via pose_math::ConstrainedPoseCovariance) or with
-// ZYX Euler angles Θ = [α β γ tx ty tz] (unconstrained, 5.48–5.52).
+// constraint (section 5.6.4, via pose_math::ConstrainedPoseCovariance) or with
+// ZYX Euler angles Θ = [α β γ tx ty tz] (unconstrained: (5.48) and (5.52)).
 #pragma once
 #include <Eigen/Core>
 

@@ -36,16 +36,16 @@ struct CameraModel {
 };
 
 enum class PnpMethod {
-  kP3p,         // Fischler–Bolles (4.7–4.15), extra points pick the root
-  kDlt,         // Abdel-Aziz & Karara (4.18–4.35)
-  kOia,         // Lu–Hager orthogonal iteration (4.44–4.49)
-  kMdltIs,      // MDLT linear + Gauss–Newton, image space (4.50–4.87)
+  kP3p,         // Fischler–Bolles (thesis 4.2.1), extra points pick the root
+  kDlt,         // Abdel-Aziz & Karara (thesis 4.2.2)
+  kOia,         // Lu–Hager orthogonal iteration (thesis 4.2.4)
+  kMdltIs,      // MDLT linear + Gauss–Newton, image space (thesis 4.3.1)
   kMdltOs,      // the same in object space
-  kSimplexIs,   // 3-simplex linear + Gauss–Newton, image space (4.88–4.120)
+  kSimplexIs,   // 3-simplex linear + Gauss–Newton, image space (thesis 4.3.2)
   kSimplexOs,   // the same in object space
   kEpnp,        // EPnP, linear (Moreno-Noguer et al. 2007)
   kEpnpGn,      // EPnP with Gauss–Newton on the betas
-  kSimplexSdp,  // 3-simplex SDP with CSDP (4.121–4.153)
+  kSimplexSdp,  // 3-simplex SDP with CSDP (thesis 4.3.3)
   kCeres,       // Ceres image-space refinement on the quaternion manifold
   kBest,        // linear initialisation + refinement: what the tracker uses
 };
@@ -59,7 +59,7 @@ enum class ErrorSpace { kImage, kObject };
 
 struct PnpOptions {
   PnpMethod method = PnpMethod::kBest;
-  // Image noise used for the covariance (5.53–5.55, 5.61–5.62).
+  // Image noise used for the covariance: cov(n) (5.54) in image space, (5.62) in object space.
   double sigma_px = 1.0;
   bool compute_covariance = true;
   // Ceres / best: optional Huber loss on the reprojection error.
@@ -87,7 +87,7 @@ struct PnpResult {
   // DLT only: ‖RᵀR − I‖_F of the raw DLT rotation before orthogonalisation.
   double rotation_nonorthogonality = 0.0;
   // Covariance of T_camera_model: thesis 7×7 over (q0 qx qy qz tx ty tz) on the
-  // tangent hyperplane (5.67–5.74), and its ROS image (x y z rx ry rz).
+  // tangent hyperplane (thesis 5.6.4), and its ROS image (x y z rx ry rz).
   ErrorSpace covariance_space = ErrorSpace::kImage;
   pose_math::Matrix7d cov7 = pose_math::Matrix7d::Zero();
   pose_math::Matrix6d cov6_ros = pose_math::Matrix6d::Zero();

@@ -1,4 +1,4 @@
-// Colour classification (3.1.5.1): the six HSI bounds (3.19-3.22) compiled
+// Colour classification (3.1.5.1): the six HSI bounds (3.22) compiled
 // into a table over all 2^24 RGB values, one bit each (2 MiB, so it stays in
 // cache better than a byte table), so classifying a pixel is one lookup.
 // ROS-free.
@@ -26,7 +26,7 @@ struct HsiBounds {
   bool operator!=(const HsiBounds& o) const { return !(*this == o); }
 };
 
-// HSV of one 8-bit RGB pixel by (3.19)-(3.21): hue in [0, 2*pi), s and v in [0, 1].
+// HSV of one 8-bit RGB pixel by (3.19) (3.20) (3.21): hue in [0, 2*pi), s and v in [0, 1].
 void RgbToHsv(uint8_t r, uint8_t g, uint8_t b, double* h_rad, double* s, double* v);
 
 // (3.22) evaluated directly, without the table (the table's reference).
