@@ -79,6 +79,20 @@ TEST(LoadConfig, UnknownParameterIsRefusedWithTheNearestName) {
   EXPECT_EQ(RefusalOf(b), "parameter ~time_sync/slack_pmm is unknown (did you mean ~time_sync/slack_ppm?)");
 }
 
+TEST(LoadConfig, TheConfigFileTheLaunchLoadedIsNamed) {
+  const std::string path = ::testing::TempDir() + "imu_driver_load_config_misspelt.yaml";
+  std::ofstream(path) << "port: /dev/ttyS1\ntime_sync:\n  window_s: 1.0\n  slack_pmm: 20.0\n";
+  ros::NodeHandle a("~from_file");  // as rosparam load + imu_driver.launch's config_file leave it
+  a.setParam("time_sync/slack_pmm", 20.0);
+  a.setParam("config_file", path);
+  EXPECT_EQ(RefusalOf(a), path + ":4: unknown key 'time_sync.slack_pmm' (did you mean 'slack_ppm'?)");
+  std::ofstream(path) << "port: /dev/ttyS1\n";
+  ros::NodeHandle b("~set_elsewhere");
+  b.setParam("config_file", path);
+  b.setParam("bauds", 9600);
+  EXPECT_EQ(RefusalOf(b), "parameter ~bauds is unknown (did you mean ~baud?) (parameters loaded from " + path + ")");
+}
+
 TEST(LoadConfig, CalibrationFilesThatCannotBeUsedAreRefusedByName) {
   const std::string zero = ::testing::TempDir() + "imu_driver_load_config_zero.yaml";
   std::ofstream(zero) << "camera_imu:\n  rotation_xyzw: [0, 0, 0, 0]\n";

@@ -39,7 +39,8 @@ Eigen::Vector3d Vector3Param(const ros::NodeHandle& pnh, const std::string& name
 }
 
 // Every parameter LoadConfig reads (one level deep), plus diagnostic_updater's own.
-const std::vector<std::string> kParamNames = {"port",
+const std::vector<std::string> kParamNames = {"config_file",
+                                              "port",
                                               "baud",
                                               "frame_id",
                                               "rate_hz",
@@ -77,6 +78,20 @@ void CheckNestedNames(const ros::NodeHandle& pnh, const std::string& ns, const s
   }
 }
 
+// ~config_file: set by imu_driver.launch to the YAML it loaded here (config/imu_driver.yaml), so
+// that its keys are checked with their lines and unknown-parameter errors name it.
+void CheckConfigFile(const std::string& path) {
+  try {
+    const rig_model::StrictReader r(path);
+    const YAML::Node root = rig_model::LoadYamlFile(path);
+    r.CheckKeys(root, kParamNames, "");
+    if (root["time_sync"]) r.CheckKeys(root["time_sync"], kTimeSyncNames, "time_sync");
+    if (root["camera_imu"]) r.CheckKeys(root["camera_imu"], CameraImuKeys(), "camera_imu");
+  } catch (const rig_model::FileError& e) {
+    throw std::invalid_argument(e.what());
+  }
+}
+
 // The calibration files named by ~gyro_calibration_file and ~camera_imu_file (read here, not by
 // roslaunch, so that every error names the file). Their values override parameters of the same name.
 void ReadCalibrationFiles(const ros::NodeHandle& pnh, DriverConfig* c) {
@@ -101,9 +116,17 @@ void ReadCalibrationFiles(const ros::NodeHandle& pnh, DriverConfig* c) {
 }  // namespace
 
 DriverConfig LoadConfig(const ros::NodeHandle& pnh) {
-  rig_model::CheckParamNames(pnh, kParamNames);
-  CheckNestedNames(pnh, "time_sync", kTimeSyncNames);
-  CheckNestedNames(pnh, "camera_imu", CameraImuKeys());
+  std::string file;
+  pnh.param<std::string>("config_file", file, "");
+  if (!file.empty()) CheckConfigFile(file);
+  try {
+    rig_model::CheckParamNames(pnh, kParamNames);
+    CheckNestedNames(pnh, "time_sync", kTimeSyncNames);
+    CheckNestedNames(pnh, "camera_imu", CameraImuKeys());
+  } catch (const std::invalid_argument& e) {
+    if (file.empty()) throw;
+    throw std::invalid_argument(std::string(e.what()) + " (parameters loaded from " + file + ")");
+  }
   DriverConfig c;
   SerialReaderConfig& r = c.reader;
   pnh.param<std::string>("port", r.port, "/dev/ttyUSB0");
