@@ -51,18 +51,23 @@ def yaml_files(cfg):
 
 class LaunchFilesTest(unittest.TestCase):
     def check_files(self, name, cfg):
-        camera_imu = [p for what, p in yaml_files(cfg)
-                      if what.endswith("camera_imu_file") or "camera_imu_static_tf" in what]
+        """Every YAML loads; the calibrations pass camera_imu_static_tf.py's check. Returns the
+        camera-IMU calibrations and gyro calibrations the launch uses."""
         for what, path in yaml_files(cfg):
             try:
                 load_yaml_file(path)
             except FileError as e:
                 self.fail("%s: %s: %s" % (name, what, e))
+        params = {k: p.value for k, p in cfg.params.items()}
+        checks = [n.args.split() for n in cfg.nodes if n.type == "camera_imu_static_tf.py"]
+        checks += [[v] for k, v in params.items() if k.endswith("/camera_imu_file")]
+        checks += [[params[k[:-len("gyro_calibration_file")] + "camera_imu_file"], v] for k, v in params.items()
+                   if k.endswith("/gyro_calibration_file")]
         script = os.path.join(rospkg.RosPack().get_path("imu_driver"), "scripts", "camera_imu_static_tf.py")
-        for path in set(camera_imu):
-            r = subprocess.run([sys.executable, script, "--check", path], capture_output=True, text=True)
+        for files in checks:
+            r = subprocess.run([sys.executable, script, "--check"] + files, capture_output=True, text=True)
             self.assertEqual(r.returncode, 0, "%s: %s" % (name, r.stderr.strip()))
-        return camera_imu
+        return {f[0] for f in checks}, {f[1] for f in checks if len(f) == 2}
 
     def check(self, name, args):
         path = os.path.join(LAUNCH_DIR, name)
@@ -121,14 +126,23 @@ class LaunchFilesTest(unittest.TestCase):
         """rig.launch's camera-IMU calibration reaches both readers; a broken one is refused by name."""
         cfg = roslaunch.config.load_config_default([(os.path.join(LAUNCH_DIR, "rig.launch"), [])], None,
                                                    verbose=False)
-        self.assertEqual(len(set(self.check_files("rig.launch", cfg))), 1)  # the driver's and the tf node's
-        path = os.path.join(tempfile.mkdtemp(prefix="ar_bringup_launch_files_"), "camera_imu.yaml")
+        camera_imu, gyro = self.check_files("rig.launch", cfg)
+        self.assertEqual(len(camera_imu), 1)  # the driver's and the tf node's are the same file
+        self.assertEqual(len(gyro), 1)
+        tmp = tempfile.mkdtemp(prefix="ar_bringup_launch_files_")
+        path = os.path.join(tmp, "camera_imu.yaml")
         with open(path, "w") as f:
             f.write("camera_imu:\n  rotaton_xyzw: [0, 0, 0, 1]\n")
         with self.assertRaises(AssertionError) as e:
             self.check("rig.launch", ["camera_imu:=" + path])
         self.assertIn(path + ":2: unknown key 'camera_imu.rotaton_xyzw' (did you mean 'rotation_xyzw'?)",
                       str(e.exception))
+        path = os.path.join(tmp, "gyro_calibration.yaml")
+        with open(path, "w") as f:
+            f.write("gyro_bias_rad_s: [0, 0, .nan]\n")
+        with self.assertRaises(AssertionError) as e:
+            self.check("rig.launch", ["gyro_calibration:=" + path])
+        self.assertIn(path + ":1: gyro_bias_rad_s: must be a list of 3 finite numbers", str(e.exception))
 
 
 if __name__ == "__main__":

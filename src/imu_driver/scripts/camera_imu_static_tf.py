@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
 """Publishes the camera-IMU rotation (thesis 3.2.2) as a static tf.
 
-Usage: camera_imu_static_tf.py CAMERA_IMU_YAML          (the node)
-       camera_imu_static_tf.py --check CAMERA_IMU_YAML  (only check the file: exit 0 or 1)
-The file is calibrate_camera_imu's output (camera_imu: {parent_frame, child_frame, translation_m,
-rotation_xyzw, ...}). A file that cannot be used (unreadable, not YAML, an unknown key, a rotation
-that is not a unit quaternion) is refused with a message naming the file, and the node exits with
-status 1: the launch files mark it required, so roslaunch stops instead of running without the IMU.
+Usage: camera_imu_static_tf.py [--check] CAMERA_IMU_YAML [GYRO_CALIBRATION_YAML]
+The first file is calibrate_camera_imu's output (camera_imu: {parent_frame, child_frame,
+translation_m, rotation_xyzw, ...}); the optional second is the 3.2.1 gyro calibration the driver
+reads (gyro_bias_rad_s, gyro_noise_sigma_rad_s), checked here too because this node is the one the
+launch files mark required. A file that cannot be used (unreadable, not YAML, an unknown key, a
+rotation that is not a unit quaternion, a value that is not 3 finite numbers) is refused with a
+message naming the file, and the node exits with status 1, so roslaunch stops instead of running
+without the IMU. With --check it only checks the files (exit 0 or 1) and needs no ROS master.
 """
 import math
 import sys
@@ -41,16 +43,35 @@ def read_camera_imu(path):
     return parent, child, t, [v / norm for v in q]
 
 
+# imu_driver's calibration_files.cpp reads the same keys (GyroCalibrationKeys()).
+GYRO_CALIBRATION_KEYS = ["gyro_bias_rad_s", "gyro_noise_sigma_rad_s", "gyro_calibration_source"]
+
+
+def check_gyro_calibration(path):
+    """Raises FileError unless the 3.2.1 gyro calibration file is usable."""
+    root = load_yaml_file(path)
+    if root is None:
+        return  # comments only: the driver runs uncalibrated and says so
+    check_keys(path, root, GYRO_CALIBRATION_KEYS)
+    numbers(path, root, "", "gyro_bias_rad_s", 3, [0.0, 0.0, 0.0])
+    sigma = numbers(path, root, "", "gyro_noise_sigma_rad_s", 3, [0.0, 0.0, 0.0])
+    if min(sigma) < 0.0:
+        fail(path, root, "gyro_noise_sigma_rad_s", "must be 3 finite numbers >= 0", "gyro_noise_sigma_rad_s")
+
+
 def main(argv):
-    check_only = len(argv) == 3 and argv[1] == "--check"
-    if len(argv) != 2 and not check_only:
-        sys.stderr.write("usage: camera_imu_static_tf.py [--check] CAMERA_IMU_YAML\n")
+    check_only = len(argv) > 1 and argv[1] == "--check"
+    files = argv[2:] if check_only else argv[1:]
+    if len(files) not in (1, 2):
+        sys.stderr.write("usage: camera_imu_static_tf.py [--check] CAMERA_IMU_YAML [GYRO_CALIBRATION_YAML]\n")
         return 2
-    path = argv[-1]
+    path = files[0]
     try:
         parent, child, t, q = read_camera_imu(path)
+        if len(files) == 2:
+            check_gyro_calibration(files[1])
     except FileError as e:
-        sys.stderr.write("camera_imu_static_tf: the camera-IMU calibration cannot be used: %s\n" % e)
+        sys.stderr.write("camera_imu_static_tf: a calibration cannot be used: %s\n" % e)
         return 1  # before init_node: a refused file needs no ROS master to say so
     if check_only:
         return 0

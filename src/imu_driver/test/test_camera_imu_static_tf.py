@@ -72,6 +72,24 @@ class CameraImuStaticTf(unittest.TestCase):
         self.assertIn(path + ":2: camera_imu.rotation_xyzw: must be a unit quaternion", r.stdout)
         self.assertIn("REQUIRED process [camera_imu_static_tf", r.stdout)
 
+    def test_gyro_calibration(self):
+        """The 3.2.1 file the driver reads is checked by the same required node."""
+        good = write("good.yaml", b"camera_imu:\n  rotation_xyzw: [0, 0, 0, 1]\n")
+        gyro = write("gyro.yaml", b"# bias\ngyro_bias_rad_s: [0.01, 0, 0]\ngyro_nose_sigma_rad_s: [0.001, 0, 0]\n")
+        r = subprocess.run([sys.executable, SCRIPT, "--check", good, gyro], capture_output=True, text=True)
+        self.assertEqual(r.returncode, 1, r.stderr)
+        self.assertIn(gyro + ":3: unknown key 'gyro_nose_sigma_rad_s' (did you mean 'gyro_noise_sigma_rad_s'?)",
+                      r.stderr)
+        shipped = os.path.join(rospkg.RosPack().get_path("imu_driver"), "config", "gyro_calibration.yaml")
+        r = subprocess.run([sys.executable, SCRIPT, "--check", good, shipped], capture_output=True, text=True)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        # A broken gyro calibration stops the launch too.
+        rnd = write("gyro_random.yaml", bytes([0xfe, 0x00, 0x81]))
+        r = subprocess.run(["roslaunch", "imu_driver", "camera_imu_tf.launch", "camera_imu:=" + good,
+                            "gyro_calibration:=" + rnd], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.assertIn(rnd + ": not a text file (invalid UTF-8 at byte 0); expected YAML", r.stdout)
+        self.assertIn("REQUIRED process [camera_imu_static_tf", r.stdout)
+
     def test_python_helper(self):
         path = write("helper.yaml", b"top:\n  height_m: 1\n  hieght_m: 2\n")
         data = load_yaml_file(path)
