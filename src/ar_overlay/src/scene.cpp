@@ -1,55 +1,71 @@
 #include "ar_overlay/scene.h"
 
-#include <yaml-cpp/yaml.h>
-
 #include <cmath>
 #include <set>
 #include <stdexcept>
 
+#include "rig_model/strict_yaml.h"
+
 namespace ar_overlay {
 namespace {
 
-Eigen::Vector3d Vec3(const YAML::Node& n, const Eigen::Vector3d& fallback, const std::string& what) {
+const std::vector<std::string> kModelKeys = {"name",   "file",  "scale", "xyz",  "rpy",
+                                             "parent", "joint", "alpha", "color"};
+
+Eigen::Vector3d Vec3(const rig_model::StrictReader& r, const YAML::Node& map, const std::string& where,
+                     const std::string& key, const Eigen::Vector3d& fallback) {
+  const YAML::Node n = map[key];
   if (!n) return fallback;
-  if (!n.IsSequence() || n.size() != 3) throw std::runtime_error(what + " must be a list of three numbers");
-  Eigen::Vector3d v(n[0].as<double>(), n[1].as<double>(), n[2].as<double>());
-  if (!v.allFinite()) throw std::runtime_error(what + " is not finite");
+  const std::string field = rig_model::FieldPath(where, key);
+  if (!n.IsSequence() || n.size() != 3) r.Fail(n, field, "must be a list of three numbers");
+  Eigen::Vector3d v;
+  for (size_t i = 0; i < 3; ++i) {
+    try {
+      v(i) = n[i].as<double>();
+    } catch (const YAML::Exception&) {
+      r.Fail(n, field, "must be a list of three numbers");
+    }
+  }
+  if (!v.allFinite()) r.Fail(n, field, "is not finite");
   return v;
 }
 
-ModelSpec ParseModel(const YAML::Node& n, const std::string& folder, const std::set<std::string>& earlier) {
+ModelSpec ParseModel(const rig_model::StrictReader& r, const YAML::Node& n, const std::string& where,
+                     const std::string& folder, const std::set<std::string>& earlier) {
+  r.CheckKeys(n, kModelKeys, where);
   ModelSpec s;
-  s.name = n["name"] ? n["name"].as<std::string>() : "";
-  if (s.name.empty()) throw std::runtime_error("a model has no name");
-  const std::string where = "model '" + s.name + "': ";
-  if (earlier.count(s.name)) throw std::runtime_error(where + "name used twice");
-  if (!n["file"]) throw std::runtime_error(where + "no file");
-  s.file = n["file"].as<std::string>();
+  s.name = r.String(n, where, "name", "");
+  if (s.name.empty()) r.Fail(n, where + ".name", "a model needs a name");
+  if (earlier.count(s.name)) r.Fail(n["name"], where + ".name", "'" + s.name + "' is used twice");
+  if (!n["file"]) r.Fail(n, where + ".file", "is missing");
+  s.file = r.String(n, where, "file", "");
   if (!s.file.empty() && s.file[0] != '/') s.file = folder + s.file;
-  s.scale = n["scale"] ? n["scale"].as<double>() : 1.0;
-  if (!(s.scale > 0) || !std::isfinite(s.scale)) throw std::runtime_error(where + "scale must be > 0");
-  const Eigen::Vector3d xyz = Vec3(n["xyz"], Eigen::Vector3d::Zero(), where + "xyz");
-  const Eigen::Vector3d rpy = Vec3(n["rpy"], Eigen::Vector3d::Zero(), where + "rpy");
+  s.scale = r.Number(n, where, "scale", 1.0);
+  if (!(s.scale > 0)) r.Fail(n["scale"], where + ".scale", "must be > 0");
+  const Eigen::Vector3d xyz = Vec3(r, n, where, "xyz", Eigen::Vector3d::Zero());
+  const Eigen::Vector3d rpy = Vec3(r, n, where, "rpy", Eigen::Vector3d::Zero());
   s.T_parent_origin.translation() = xyz;
   s.T_parent_origin.linear() =
       (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
        Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
           .toRotationMatrix();  // fixed-axis roll, pitch, yaw (REP-103)
-  s.parent = n["parent"] ? n["parent"].as<std::string>() : "";
+  s.parent = r.String(n, where, "parent", "");
   if (!s.parent.empty() && !earlier.count(s.parent))
-    throw std::runtime_error(where + "parent '" + s.parent + "' is not listed before it");
+    r.Fail(n["parent"], where + ".parent", "'" + s.parent + "' is not listed before it");
   if (const YAML::Node j = n["joint"]) {
-    s.joint_name = j["name"] ? j["name"].as<std::string>() : "";
-    if (s.joint_name.empty()) throw std::runtime_error(where + "joint has no name");
-    s.joint_axis = Vec3(j["axis"], Eigen::Vector3d::UnitZ(), where + "joint axis");
-    if (s.joint_axis.norm() < 1e-9) throw std::runtime_error(where + "joint axis is zero");
+    const std::string jw = where + ".joint";
+    r.CheckKeys(j, {"name", "axis"}, jw);
+    s.joint_name = r.String(j, jw, "name", "");
+    if (s.joint_name.empty()) r.Fail(j, jw + ".name", "a joint needs a name");
+    s.joint_axis = Vec3(r, j, jw, "axis", Eigen::Vector3d::UnitZ());
+    if (s.joint_axis.norm() < 1e-9) r.Fail(j, jw + ".axis", "is zero");
     s.joint_axis.normalize();
   }
-  s.alpha = n["alpha"] ? n["alpha"].as<double>() : 1.0;
-  if (!(s.alpha >= 0 && s.alpha <= 1)) throw std::runtime_error(where + "alpha must be in [0, 1]");
+  s.alpha = r.Number(n, where, "alpha", 1.0);
+  if (!(s.alpha >= 0 && s.alpha <= 1)) r.Fail(n["alpha"], where + ".alpha", "must be in [0, 1]");
   if (n["color"]) {
     s.has_color = true;
-    s.color = Vec3(n["color"], Eigen::Vector3d::Ones(), where + "color").cast<float>();
+    s.color = Vec3(r, n, where, "color", Eigen::Vector3d::Ones()).cast<float>();
   }
   return s;
 }
@@ -58,20 +74,16 @@ ModelSpec ParseModel(const YAML::Node& n, const std::string& folder, const std::
 
 std::vector<ModelSpec> LoadSceneYaml(const std::string& path) {
   const std::string folder = path.substr(0, path.find_last_of('/') + 1);
+  const rig_model::StrictReader r(path);
+  const YAML::Node root = rig_model::LoadYamlFile(path);
+  r.CheckKeys(root, {"models"}, "");
+  const YAML::Node models = root["models"];
+  if (!models || !models.IsSequence()) r.Fail(root, "models", "must be a list of models");
   std::vector<ModelSpec> specs;
-  try {
-    const YAML::Node root = YAML::LoadFile(path);
-    const YAML::Node models = root["models"];
-    if (!models || !models.IsSequence()) throw std::runtime_error("no 'models' list");
-    std::set<std::string> names;
-    for (const YAML::Node& n : models) {
-      specs.push_back(ParseModel(n, folder, names));
-      names.insert(specs.back().name);
-    }
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(path + ": " + e.what());
-  } catch (const std::runtime_error& e) {
-    throw std::runtime_error(path + ": " + e.what());
+  std::set<std::string> names;
+  for (size_t i = 0; i < models.size(); ++i) {
+    specs.push_back(ParseModel(r, models[i], "models[" + std::to_string(i) + "]", folder, names));
+    names.insert(specs.back().name);
   }
   return specs;
 }

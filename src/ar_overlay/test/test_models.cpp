@@ -94,9 +94,31 @@ TEST(Scene, RejectsBadYamlNamingTheEntry) {
     LoadSceneYaml(path);
     FAIL() << "no exception";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("model 'a': scale"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(path + ":2: models[0].scale: must be > 0"), std::string::npos) << e.what();
   }
   std::ofstream(path) << "models:\n  - {name: b, file: b.ply, parent: nobody}\n";
+  EXPECT_THROW(LoadSceneYaml(path), std::runtime_error);
+}
+
+TEST(Scene, MisspeltKeyIsRefusedWithFileLineAndNearestKey) {
+  const std::string path = TempPath("misspelt.yaml");
+  std::ofstream(path) << "models:\n  - name: a\n    file: a.ply\n    scael: 2\n";
+  try {
+    LoadSceneYaml(path);
+    FAIL() << "a misspelt key was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), path + ":4: unknown key 'models[0].scael' (did you mean 'scale'?)");
+  }
+  std::ofstream(path) << "models:\n  - {name: a, file: a.ply, joint: {name: j, axes: [0, 0, 1]}}\n";
+  try {
+    LoadSceneYaml(path);
+    FAIL() << "a misspelt joint key was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown key 'models[0].joint.axes' (did you mean 'axis'?)"),
+              std::string::npos)
+        << e.what();
+  }
+  std::ofstream(path) << "model:\n  - {name: a, file: a.ply}\n";
   EXPECT_THROW(LoadSceneYaml(path), std::runtime_error);
 }
 

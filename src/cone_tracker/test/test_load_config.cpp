@@ -81,6 +81,13 @@ TEST(LoadConfig, RefusesBadValuesNamingTheParameter) {
   EXPECT_EQ(LoadError([](ros::NodeHandle& nh) { nh.setParam("heading_prior_deg", "nan"); }), "");
 }
 
+TEST(LoadConfig, RefusesAnUnknownParameterWithTheNearestName) {
+  // A tracker_config YAML (pipeline.launch) with a typo: refused, not silently left at the default.
+  EXPECT_EQ(LoadError([](ros::NodeHandle& nh) { nh.setParam("sat_mni", 0.5); }),
+            "parameter ~sat_mni is unknown (did you mean ~sat_min?)");
+  EXPECT_EQ(LoadError([](ros::NodeHandle& nh) { nh.setParam("diagnostic_period", 0.1); }), "");
+}
+
 TEST(BadLayout, TheNodeletReportsTheFileAndField) {
   NodeletRig rig;
   const std::string name = "cone_tracker_bad_layout: tracker";

@@ -4,9 +4,12 @@
 // are drawn into example images, not machine-readable). Skips when absent.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include <cstdio>
+
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <string>
 
@@ -71,4 +74,26 @@ TEST(Photos, DetectConesOnFsocoPhotos) {
     ++lines;
   }
   EXPECT_EQ(lines, int(expect.size()));
+}
+
+// detect_cones's config files (no photos needed): the shipped one loads, a misspelt key is refused
+// with the file, line and nearest field, and the tool exits with status 2.
+std::string RunDetectCones(const std::string& config, int* status) {
+  const std::string out = ::testing::TempDir() + "cone_tracker_detect_cones_config.txt";
+  const std::string cmd = std::string(DETECT_CONES_EXE) + " --config " + config + " --output " + ::testing::TempDir() +
+                          "cone_tracker_detect_cones.jsonl /nonexistent.png 2>" + out;
+  *status = std::system(cmd.c_str());
+  std::ifstream in(out);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+TEST(DetectConesConfig, ShippedLoadsAndMisspeltKeyIsRefused) {
+  int status = -1;
+  RunDetectCones("photos", &status);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;  // the image is unreadable, not an error
+  const std::string path = ::testing::TempDir() + "cone_tracker_misspelt_photos.yaml";
+  std::ofstream(path) << "sat_min: 0.5\nsat_maxx: 1.0\n";
+  const std::string err = RunDetectCones(path, &status);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << status;
+  EXPECT_NE(err.find(path + ":2: unknown key 'sat_maxx' (did you mean 'sat_max'?)"), std::string::npos) << err;
 }

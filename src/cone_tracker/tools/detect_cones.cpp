@@ -4,40 +4,72 @@
 // "base":[u,v], "area":a, "solidity":s}, ...], "rejected":[{"bbox":[x,y,w,h],
 // "area":a, "gates":["outline", ...]}, ...]} (or "error"). For tuning the
 // thresholds on one's own photos; no camera calibration (no undistortion).
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
-#include <yaml-cpp/yaml.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "cone_tracker/vision/segmenter.h"
+#include "rig_model/strict_yaml.h"
 
 namespace {
 
-template <typename T>
-void Read(const YAML::Node& n, const char* key, T* value) {
-  if (n[key]) *value = n[key].as<T>();
-}
+// Reads SegmenterConfig's fields from a YAML file; the known keys are the ones read here, so a
+// misspelt or unknown key is refused with the file, its line and the nearest field.
+class ConfigFile {
+ public:
+  explicit ConfigFile(const std::string& path) : r_(path), root_(rig_model::LoadYamlFile(path)) {
+    if (root_.IsNull()) root_ = YAML::Node(YAML::NodeType::Map);  // comments only: the defaults
+  }
+  template <typename T>
+  void Read(const char* key, T* value) {
+    known_.push_back(key);
+    const YAML::Node n = root_.IsMap() ? root_[key] : YAML::Node();
+    if (!n) return;
+    try {
+      *value = n.as<T>();
+    } catch (const YAML::Exception&) {
+      r_.Fail(n, key, std::is_same<T, bool>::value ? "must be true or false" : "must be a number");
+    }
+    if constexpr (std::is_floating_point<T>::value) {
+      if (!std::isfinite(*value)) r_.Fail(n, key, "must be finite");
+    }
+  }
+  std::string String(const char* key) {
+    known_.push_back(key);
+    return root_.IsMap() ? r_.String(root_, "", key, "") : "";
+  }
+  void CheckKeys() const { r_.CheckKeys(root_, known_, ""); }
+
+ private:
+  rig_model::StrictReader r_;
+  YAML::Node root_;
+  std::vector<std::string> known_;
+};
 
 cone_tracker::SegmenterConfig LoadConfig(const std::string& path) {
   cone_tracker::SegmenterConfig c;
-  const YAML::Node n = YAML::LoadFile(path);
-  Read(n, "hue_min_rad", &c.hsi.hue_min_rad), Read(n, "hue_max_rad", &c.hsi.hue_max_rad);
-  Read(n, "sat_min", &c.hsi.sat_min), Read(n, "sat_max", &c.hsi.sat_max);
-  Read(n, "val_min", &c.hsi.val_min), Read(n, "val_max", &c.hsi.val_max);
-  Read(n, "min_area_px", &c.min_area_px), Read(n, "max_area_px", &c.max_area_px);
-  Read(n, "border_px", &c.border_px);
-  Read(n, "min_solidity", &c.min_solidity), Read(n, "max_solidity", &c.max_solidity);
-  Read(n, "min_axis_ratio", &c.min_axis_ratio), Read(n, "max_axis_ratio", &c.max_axis_ratio);
-  Read(n, "max_tilt_deg", &c.max_tilt_deg);
-  Read(n, "merge_lateral_frac", &c.merge_lateral_frac), Read(n, "merge_gap_frac", &c.merge_gap_frac);
-  Read(n, "reject_bad_outline", &c.reject_bad_outline);
-  if (n["refinement"]) c.refinement = cone_tracker::ParsePeakRefinement(n["refinement"].as<std::string>());
+  ConfigFile f(path);
+  f.Read("hue_min_rad", &c.hsi.hue_min_rad), f.Read("hue_max_rad", &c.hsi.hue_max_rad);
+  f.Read("sat_min", &c.hsi.sat_min), f.Read("sat_max", &c.hsi.sat_max);
+  f.Read("val_min", &c.hsi.val_min), f.Read("val_max", &c.hsi.val_max);
+  f.Read("min_area_px", &c.min_area_px), f.Read("max_area_px", &c.max_area_px);
+  f.Read("border_px", &c.border_px);
+  f.Read("min_solidity", &c.min_solidity), f.Read("max_solidity", &c.max_solidity);
+  f.Read("min_axis_ratio", &c.min_axis_ratio), f.Read("max_axis_ratio", &c.max_axis_ratio);
+  f.Read("max_tilt_deg", &c.max_tilt_deg);
+  f.Read("merge_lateral_frac", &c.merge_lateral_frac), f.Read("merge_gap_frac", &c.merge_gap_frac);
+  f.Read("reject_bad_outline", &c.reject_bad_outline);
+  const std::string refinement = f.String("refinement");
+  f.CheckKeys();
+  if (!refinement.empty()) c.refinement = cone_tracker::ParsePeakRefinement(refinement);
   return c;
 }
 
@@ -66,6 +98,9 @@ int main(int argc, char** argv) {
   try {
     seg = std::make_unique<cone_tracker::Segmenter>(config_path.empty() ? cone_tracker::SegmenterConfig()
                                                                         : LoadConfig(config_path));
+  } catch (const rig_model::FileError& e) {  // names the file, line and key
+    std::fprintf(stderr, "detect_cones: %s\n", e.what());
+    return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "detect_cones: config %s: %s\n", config_path.c_str(), e.what());
     return 2;

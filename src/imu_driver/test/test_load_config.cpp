@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 
+#include <fstream>
+
 #include "imu_driver/ros_adapter.h"
 
 namespace imu_driver {
@@ -60,6 +62,56 @@ TEST(LoadConfig, BadValuesAreRefusedByName) {
   ros::NodeHandle e("~bad_source");
   e.setParam("time_source", "gps");
   EXPECT_NE(RefusalOf(e).find("time_source"), std::string::npos);
+}
+
+TEST(LoadConfig, ShippedFilesLoadAsTheLaunchFileLoadsThem) {
+  const DriverConfig c = LoadConfig(ros::NodeHandle("~shipped"));  // load_config.test: as imu_driver.launch
+  EXPECT_FALSE(c.gyro_bias_calibrated);
+  EXPECT_DOUBLE_EQ(c.q_camera_imu.w(), 1.0);
+}
+
+TEST(LoadConfig, UnknownParameterIsRefusedWithTheNearestName) {
+  ros::NodeHandle a("~misspelt");
+  a.setParam("rate_hzz", 100.0);
+  EXPECT_EQ(RefusalOf(a), "parameter ~rate_hzz is unknown (did you mean ~rate_hz?)");
+  ros::NodeHandle b("~misspelt_nested");
+  b.setParam("time_sync/slack_pmm", 20.0);
+  EXPECT_EQ(RefusalOf(b), "parameter ~time_sync/slack_pmm is unknown (did you mean ~time_sync/slack_ppm?)");
+}
+
+TEST(LoadConfig, TheConfigFileTheLaunchLoadedIsNamed) {
+  const std::string path = ::testing::TempDir() + "imu_driver_load_config_misspelt.yaml";
+  std::ofstream(path) << "port: /dev/ttyS1\ntime_sync:\n  window_s: 1.0\n  slack_pmm: 20.0\n";
+  ros::NodeHandle a("~from_file");  // as rosparam load + imu_driver.launch's config_file leave it
+  a.setParam("time_sync/slack_pmm", 20.0);
+  a.setParam("config_file", path);
+  EXPECT_EQ(RefusalOf(a), path + ":4: unknown key 'time_sync.slack_pmm' (did you mean 'slack_ppm'?)");
+  std::ofstream(path) << "port: /dev/ttyS1\n";
+  ros::NodeHandle b("~set_elsewhere");
+  b.setParam("config_file", path);
+  b.setParam("bauds", 9600);
+  EXPECT_EQ(RefusalOf(b), "parameter ~bauds is unknown (did you mean ~baud?) (parameters loaded from " + path + ")");
+}
+
+TEST(LoadConfig, CalibrationFilesThatCannotBeUsedAreRefusedByName) {
+  const std::string zero = ::testing::TempDir() + "imu_driver_load_config_zero.yaml";
+  std::ofstream(zero) << "camera_imu:\n  rotation_xyzw: [0, 0, 0, 0]\n";
+  ros::NodeHandle a("~zero_quaternion");
+  a.setParam("camera_imu_file", zero);
+  EXPECT_NE(RefusalOf(a).find(zero + ":2: camera_imu.rotation_xyzw: must be a unit quaternion"), std::string::npos)
+      << RefusalOf(a);
+  const std::string bytes = ::testing::TempDir() + "imu_driver_load_config_bytes.yaml";
+  std::ofstream(bytes, std::ios::binary) << "\xfe\xfe\x01\x02";
+  ros::NodeHandle b("~random_bytes");
+  b.setParam("gyro_calibration_file", bytes);
+  EXPECT_EQ(RefusalOf(b), bytes + ": not a text file (invalid UTF-8); expected YAML");
+  const std::string gyro = ::testing::TempDir() + "imu_driver_load_config_gyro.yaml";
+  std::ofstream(gyro) << "gyro_bias_rad_s: [0.01, 0.02, 0.03]\n";
+  ros::NodeHandle c("~gyro_file");
+  c.setParam("gyro_calibration_file", gyro);
+  const DriverConfig d = LoadConfig(c);
+  EXPECT_TRUE(d.gyro_bias_calibrated);
+  EXPECT_DOUBLE_EQ(d.gyro_bias_rad_s(1), 0.02);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@ import tempfile
 import unittest
 
 import numpy as np
+from rig_model.strict_yaml import load_yaml_file
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "scripts"))
@@ -85,16 +86,13 @@ class RealData(unittest.TestCase):
 
     def test_report_script_writes_histogram_and_yaml(self):
         """gyro_bias_report.py end to end on a CSV of the real trial: PNG and the driver's YAML keys."""
-        import yaml
-
         t, g, a, _, _ = load(TRIALS[0])
         with tempfile.TemporaryDirectory() as d:
             csv, png, out = (os.path.join(d, n) for n in ("still.csv", "bias.png", "gyro.yaml"))
             np.savetxt(csv, np.column_stack([t, g, a]), delimiter=",", header="t,gx,gy,gz,ax,ay,az")
             bias, sigma, segs = gbr.main([csv, "--png", png, "--yaml", out])
             self.assertGreater(os.path.getsize(png), 10000)
-            with open(out) as f:
-                y = yaml.safe_load(f)
+            y = load_yaml_file(out)
             np.testing.assert_allclose(y["gyro_bias_rad_s"], bias, atol=1e-9)
             np.testing.assert_allclose(y["gyro_noise_sigma_rad_s"], sigma, atol=1e-9)
             self.assertEqual(len(segs), 2)
@@ -157,10 +155,11 @@ class RealData(unittest.TestCase):
             proc = subprocess.run([tool, src, dst], capture_output=True, text=True)
             if proc.returncode != 0:
                 return proc, None
-            import yaml
-
-            with open(dst) as f:
-                return proc, yaml.safe_load(f)["camera_imu"]
+            # What the tool writes is what the static tf node accepts (strict keys, unit quaternion).
+            script = os.path.join(HERE, "..", "scripts", "camera_imu_static_tf.py")
+            check = subprocess.run([sys.executable, script, "--check", dst], capture_output=True, text=True)
+            self.assertEqual(check.returncode, 0, check.stderr)
+            return proc, load_yaml_file(dst)["camera_imu"]
 
     def test_camera_imu_rotation_on_real_data(self):
         """(3.32) (3.33) (3.34) on 700+ real quasi-static poses: identity, then a known rotation, within 0.5 deg."""

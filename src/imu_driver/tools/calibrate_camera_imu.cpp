@@ -10,33 +10,53 @@
 //     - accel_mean_m_s2: [...]
 //       q_camera_grid_xyzw: [0, 0, 0, 1]          # or a quaternion
 // Usage: calibrate_camera_imu input.yaml output.yaml [parent_frame child_frame]
-#include <yaml-cpp/yaml.h>
-
 #include <Eigen/Geometry>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
 
 #include "imu_driver/camera_imu_rotation.h"
 #include "pose_math/rotation.h"
+#include "rig_model/strict_yaml.h"
 
 namespace {
 
-Eigen::Vector3d Vec3(const YAML::Node& n, const char* what) {
-  if (!n || !n.IsSequence() || n.size() != 3) throw std::runtime_error(std::string(what) + " must be [x, y, z]");
-  return Eigen::Vector3d(n[0].as<double>(), n[1].as<double>(), n[2].as<double>());
+// The i-th element of a list, a finite number.
+double Element(const rig_model::StrictReader& r, const YAML::Node& list, const std::string& field, size_t i) {
+  double v = NAN;
+  try {
+    v = list[i].as<double>();
+  } catch (const YAML::Exception&) {
+  }
+  if (!std::isfinite(v)) r.Fail(list[i], field + "[" + std::to_string(i) + "]", "must be a finite number");
+  return v;
 }
 
-Eigen::Matrix3d CameraFromGrid(const YAML::Node& pose) {
+Eigen::Vector3d Vec3(const rig_model::StrictReader& r, const YAML::Node& map, const std::string& where,
+                     const std::string& key) {
+  const YAML::Node n = map[key];
+  if (!n) r.Fail(map, rig_model::FieldPath(where, key), "is missing");
+  if (!n.IsSequence() || n.size() != 3) r.Fail(n, rig_model::FieldPath(where, key), "must be [x, y, z]");
+  Eigen::Vector3d v;
+  for (size_t i = 0; i < 3; ++i) v(i) = Element(r, n, rig_model::FieldPath(where, key), i);
+  return v;
+}
+
+Eigen::Matrix3d CameraFromGrid(const rig_model::StrictReader& r, const YAML::Node& pose, const std::string& where) {
+  r.CheckKeys(pose, {"accel_mean_m_s2", "R_camera_grid_rvec", "q_camera_grid_xyzw"}, where);
   if (pose["R_camera_grid_rvec"]) {
-    const Eigen::Vector3d r = Vec3(pose["R_camera_grid_rvec"], "R_camera_grid_rvec");
-    return pose_math::RotationFromAngleAxis({r.norm(), r.norm() > 0 ? r.normalized() : Eigen::Vector3d::UnitX()});
+    const Eigen::Vector3d v = Vec3(r, pose, where, "R_camera_grid_rvec");
+    return pose_math::RotationFromAngleAxis({v.norm(), v.norm() > 0 ? v.normalized() : Eigen::Vector3d::UnitX()});
   }
   const YAML::Node q = pose["q_camera_grid_xyzw"];
-  if (!q || q.size() != 4) throw std::runtime_error("each pose needs R_camera_grid_rvec or q_camera_grid_xyzw");
-  return Eigen::Quaterniond(q[3].as<double>(), q[0].as<double>(), q[1].as<double>(), q[2].as<double>())
-      .normalized()
-      .toRotationMatrix();
+  if (!q) r.Fail(pose, where, "needs R_camera_grid_rvec or q_camera_grid_xyzw");
+  if (!q.IsSequence() || q.size() != 4) r.Fail(q, where + ".q_camera_grid_xyzw", "must be [x, y, z, w]");
+  double c[4];
+  for (size_t i = 0; i < 4; ++i) c[i] = Element(r, q, where + ".q_camera_grid_xyzw", i);
+  const Eigen::Quaterniond quat(c[3], c[0], c[1], c[2]);
+  if (!(quat.norm() > 0.5)) r.Fail(q, where + ".q_camera_grid_xyzw", "must be a unit quaternion");
+  return quat.normalized().toRotationMatrix();
 }
 
 void WriteQuat(std::ostream& out, const char* key, const Eigen::Matrix3d& R) {
@@ -55,13 +75,21 @@ int main(int argc, char** argv) {
   const std::string child = argc == 5 ? argv[4] : "imu";
   std::vector<imu_driver::GravityPair> pairs;
   try {
-    const YAML::Node in = YAML::LoadFile(argv[1]);
-    const Eigen::Vector3d up_in_grid =
-        in["up_in_grid"] ? Vec3(in["up_in_grid"], "up_in_grid") : Eigen::Vector3d(0, 0, -1);
-    for (const YAML::Node& pose : in["poses"]) {
-      pairs.push_back(imu_driver::MakeGravityPair(Vec3(pose["accel_mean_m_s2"], "accel_mean_m_s2"),
-                                                  CameraFromGrid(pose), up_in_grid));
+    const rig_model::StrictReader r(argv[1]);
+    const YAML::Node in = rig_model::LoadYamlFile(argv[1]);
+    r.CheckKeys(in, {"up_in_grid", "poses"}, "");
+    const Eigen::Vector3d up_in_grid = in["up_in_grid"] ? Vec3(r, in, "", "up_in_grid") : Eigen::Vector3d(0, 0, -1);
+    const YAML::Node poses = in["poses"];
+    if (!poses || !poses.IsSequence()) r.Fail(in, "poses", "must be a list of static poses");
+    for (size_t i = 0; i < poses.size(); ++i) {
+      const std::string where = "poses[" + std::to_string(i) + "]";
+      const Eigen::Matrix3d R_camera_grid = CameraFromGrid(r, poses[i], where);
+      pairs.push_back(
+          imu_driver::MakeGravityPair(Vec3(r, poses[i], where, "accel_mean_m_s2"), R_camera_grid, up_in_grid));
     }
+  } catch (const rig_model::FileError& e) {  // names the file, line and field
+    std::fprintf(stderr, "calibrate_camera_imu: %s\n", e.what());
+    return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "calibrate_camera_imu: %s: %s\n", argv[1], e.what());
     return 1;

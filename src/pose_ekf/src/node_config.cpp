@@ -5,15 +5,18 @@
 
 #include <stdexcept>
 
+#include "rig_model/ros/params.h"
+#include "rig_model/strict_yaml.h"
+
 namespace pose_ekf {
 namespace {
 
 class NodeHandleSource : public ParamSource {
  public:
   explicit NodeHandleSource(const ros::NodeHandle& nh) : nh_(nh) {}
-  void Get(const std::string& n, double* v) const override { nh_.param(n, *v, *v); }
-  void Get(const std::string& n, bool* v) const override { nh_.param(n, *v, *v); }
-  void Get(const std::string& n, std::string* v) const override { nh_.param(n, *v, *v); }
+  void Get(const std::string& n, double* v) const override { rig_model::GetParam(nh_, n, v); }
+  void Get(const std::string& n, bool* v) const override { rig_model::GetParam(nh_, n, v); }
+  void Get(const std::string& n, std::string* v) const override { rig_model::GetParam(nh_, n, v); }
 
  private:
   const ros::NodeHandle& nh_;
@@ -39,6 +42,31 @@ class YamlSource : public ParamSource {
   YAML::Node root_;
 };
 
+// Records the names LoadConfig asks for: the known names are the loader's own, never a second list.
+class NameRecorder : public ParamSource {
+ public:
+  void Get(const std::string& n, double*) const override { names.push_back(n); }
+  void Get(const std::string& n, bool*) const override { names.push_back(n); }
+  void Get(const std::string& n, std::string*) const override { names.push_back(n); }
+  mutable std::vector<std::string> names;
+};
+
+// ~config_file: set by pose_ekf.launch to the YAML it loaded here, so that errors name the file.
+const char kConfigFileParam[] = "config_file";
+
+// Throws std::invalid_argument "file:line: unknown key 'x' (did you mean 'y'?)" for a key LoadConfig
+// does not read; returns the file's mapping.
+YAML::Node StrictFile(const std::string& yaml_path) {
+  try {
+    YAML::Node root = rig_model::LoadYamlFile(yaml_path);
+    if (root.IsNull()) return YAML::Node(YAML::NodeType::Map);  // comments only: all defaults
+    rig_model::StrictReader(yaml_path).CheckKeys(root, ParamNames(), "");
+    return root;
+  } catch (const rig_model::FileError& e) {
+    throw std::invalid_argument(e.what());
+  }
+}
+
 template <typename T>
 void Get(const ParamSource& p, const std::string& name, T* value) {
   p.Get(name, value);  // absent: the struct's default stays
@@ -46,16 +74,34 @@ void Get(const ParamSource& p, const std::string& name, T* value) {
 
 }  // namespace
 
-NodeConfig LoadConfig(const ros::NodeHandle& private_nh) { return LoadConfig(NodeHandleSource(private_nh)); }
+std::vector<std::string> ParamNames() {
+  NameRecorder recorder;
+  LoadConfig(recorder);
+  return recorder.names;
+}
+
+NodeConfig LoadConfig(const ros::NodeHandle& private_nh) {
+  std::string file;
+  rig_model::GetParam(private_nh, kConfigFileParam, &file);
+  if (!file.empty()) StrictFile(file);  // a misspelt key, with its line
+  std::vector<std::string> known = ParamNames();
+  known.insert(known.end(), {kConfigFileParam, "diagnostic_period"});  // the note and diagnostic_updater's own
+  try {
+    rig_model::CheckParamNames(private_nh, known);
+    return LoadConfig(NodeHandleSource(private_nh));
+  } catch (const std::invalid_argument& e) {
+    if (file.empty()) throw;
+    throw std::invalid_argument(std::string(e.what()) + " (parameters loaded from " + file + ")");
+  }
+}
 
 NodeConfig LoadConfigFile(const std::string& yaml_path) {
-  YAML::Node root;
+  const YAML::Node root = StrictFile(yaml_path);
   try {
-    root = YAML::LoadFile(yaml_path);
-  } catch (const YAML::Exception& e) {
-    throw std::invalid_argument("cannot read config file " + yaml_path + ": " + e.what());
+    return LoadConfig(YamlSource(root));
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(yaml_path + ": " + e.what());
   }
-  return LoadConfig(YamlSource(root));
 }
 
 AccelMode ParseAccelMode(const std::string& s) {

@@ -4,11 +4,13 @@
 #include <rosbag/bag.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
 
+#include "pose_ekf/node_config.h"
 #include "pose_ekf/replay.h"
 #include "pose_math/rotation.h"
 #include "ros_messages.h"
@@ -131,6 +133,42 @@ TEST(Replay, ShippedConfigFileLoads) {
   EXPECT_EQ(c.cones_frame, "cones");
   EXPECT_EQ(c.ekf.accel_mode, pose_ekf::AccelMode::kPositionAndOrientation);
   EXPECT_DOUBLE_EQ(c.ekf.max_delay_s, 0.2);
+}
+
+TEST(Replay, EveryShippedConfigFileLoads) {
+  // pose_ekf's own and the rig_sim tuning that sim.launch and replay.launch load.
+  for (const std::string& path : {std::string(POSE_EKF_SOURCE_DIR) + "/config/pose_ekf.yaml",
+                                  std::string(POSE_EKF_SOURCE_DIR) + "/../ar_bringup/config/pose_ekf_rig_sim.yaml"}) {
+    EXPECT_NO_THROW(pose_ekf::LoadConfigFile(path)) << path;
+  }
+  const pose_ekf::NodeConfig c =
+      pose_ekf::LoadConfigFile(std::string(POSE_EKF_SOURCE_DIR) + "/../ar_bringup/config/pose_ekf_rig_sim.yaml");
+  EXPECT_TRUE(c.ekf.estimate_gyro_bias);
+}
+
+TEST(Replay, MisspeltConfigKeyIsRefusedWithFileLineAndNearestKey) {
+  const std::string path = ::testing::TempDir() + "pose_ekf_misspelt.yaml";
+  std::ofstream(path) << "# tuning\nuse_camera: true\nsigma_gyr_rad_s: 0.01\n";
+  try {
+    pose_ekf::LoadConfigFile(path);
+    FAIL() << "a misspelt key was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()), path + ":3: unknown key 'sigma_gyr_rad_s' (did you mean 'sigma_gyro_rad_s'?)");
+  }
+  std::ofstream(path) << "\xfe\xff\x01garbage";
+  try {
+    pose_ekf::LoadConfigFile(path);
+    FAIL() << "random bytes were accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ": not a text file"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Replay, KnownParameterNamesAreTheLoaders) {
+  const std::vector<std::string> names = pose_ekf::ParamNames();
+  for (const char* n : {"cones_frame", "sigma_gyro_rad_s", "use_accel", "accel_mode", "max_predict_step_s"}) {
+    EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
+  }
 }
 
 TEST(Replay, BadConfigFileValuesAreNamed) {

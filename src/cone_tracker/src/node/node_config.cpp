@@ -4,20 +4,38 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <vector>
+
+#include "rig_model/ros/params.h"
 
 namespace cone_tracker {
 namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
 
+// The private node handle, recording every name LoadConfig reads: those are the known names, so a
+// parameter added to LoadConfig is known without a second list.
+struct Params {
+  const ros::NodeHandle& nh;
+  std::vector<std::string>* read;
+  bool hasParam(const std::string& name) const {
+    read->push_back(name);
+    return nh.hasParam(name);
+  }
+  template <typename T>
+  bool getParam(const std::string& name, T& value) const {
+    return nh.getParam(name, value);
+  }
+};
+
 template <typename T>
-void Get(const ros::NodeHandle& nh, const std::string& name, T* value) {
+void Get(const Params& nh, const std::string& name, T* value) {
   if (!nh.hasParam(name)) return;  // absent: the struct's default stays
   if (!nh.getParam(name, *value)) throw std::invalid_argument("parameter ~" + name + " has the wrong type");
 }
 
 // Doubles also accept integers written without a decimal point.
-void Get(const ros::NodeHandle& nh, const std::string& name, double* value) {
+void Get(const Params& nh, const std::string& name, double* value) {
   if (!nh.hasParam(name)) return;
   XmlRpc::XmlRpcValue v;
   nh.getParam(name, v);
@@ -33,7 +51,7 @@ void Get(const ros::NodeHandle& nh, const std::string& name, double* value) {
 }
 
 // Integers: roscpp would silently truncate 2.5 to 2.
-void Get(const ros::NodeHandle& nh, const std::string& name, int* value) {
+void Get(const Params& nh, const std::string& name, int* value) {
   if (!nh.hasParam(name)) return;
   XmlRpc::XmlRpcValue v;
   nh.getParam(name, v);
@@ -67,7 +85,9 @@ void ValidateConfig(const NodeConfig& c) {
   Check(pose.empty(), pose);
 }
 
-NodeConfig LoadConfig(const ros::NodeHandle& nh) {
+NodeConfig LoadConfig(const ros::NodeHandle& private_nh) {
+  std::vector<std::string> read;
+  const Params nh{private_nh, &read};
   NodeConfig c;
   Get(nh, "layout_file", &c.layout_file);
   Get(nh, "fixed_frame", &c.fixed_frame);
@@ -127,6 +147,10 @@ NodeConfig LoadConfig(const ros::NodeHandle& nh) {
   Get(nh, "debug_draw_rejected", &c.debug.draw_rejected);
   Get(nh, "debug_draw_text", &c.debug.draw_text);
 
+  // Also known: diagnostic_updater's period and the debug image's image_transport plugin settings
+  // (compressed_image_transport keeps ~debug_image/compressed/* on the server across restarts).
+  read.insert(read.end(), {"diagnostic_period", "debug_image"});
+  rig_model::CheckParamNames(private_nh, read);
   Check(!c.layout_file.empty(),
         "layout_file is required (a layout YAML in rig_sim's schema, e.g. "
         "$(find rig_sim)/config/layouts/default.yaml)");

@@ -7,7 +7,10 @@
 #include <stdexcept>
 #include <vector>
 
+#include "imu_driver/calibration_files.h"
 #include "imu_driver/serial_port.h"
+#include "rig_model/ros/params.h"
+#include "rig_model/strict_yaml.h"
 
 namespace imu_driver {
 namespace {
@@ -35,9 +38,95 @@ Eigen::Vector3d Vector3Param(const ros::NodeHandle& pnh, const std::string& name
   return e;
 }
 
+// Every parameter LoadConfig reads (one level deep), plus diagnostic_updater's own.
+const std::vector<std::string> kParamNames = {"config_file",
+                                              "port",
+                                              "baud",
+                                              "frame_id",
+                                              "rate_hz",
+                                              "stamp_at_interval_midpoint",
+                                              "retry_initial_s",
+                                              "retry_max_s",
+                                              "time_source",
+                                              "time_sync",
+                                              "gyro_calibration_file",
+                                              "gyro_calibration_source",
+                                              "gyro_bias_rad_s",
+                                              "subtract_gyro_bias",
+                                              "gyro_noise_sigma_rad_s",
+                                              "accel_noise_sigma_m_s2",
+                                              "publish_in_camera_frame",
+                                              "camera_frame_id",
+                                              "camera_imu_file",
+                                              "camera_imu",
+                                              "calibration_duration_s",
+                                              "calibrate_on_start",
+                                              "calibration_output_file",
+                                              "stale_after_s",
+                                              "rate_tolerance",
+                                              "diagnostic_period"};
+const std::vector<std::string> kTimeSyncNames = {"slack_ppm", "window_s", "max_skew_ppm", "jump_threshold_s"};
+
+// CheckParamNames one namespace down, naming parameters from the private namespace (~time_sync/x).
+void CheckNestedNames(const ros::NodeHandle& pnh, const std::string& ns, const std::vector<std::string>& known) {
+  try {
+    rig_model::CheckParamNames(ros::NodeHandle(pnh, ns), known);
+  } catch (const std::invalid_argument& e) {
+    std::string m = e.what();
+    for (size_t p = m.find('~'); p != std::string::npos; p = m.find('~', p + ns.size() + 2)) m.insert(p + 1, ns + "/");
+    throw std::invalid_argument(m);
+  }
+}
+
+// ~config_file: set by imu_driver.launch to the YAML it loaded here (config/imu_driver.yaml), so
+// that its keys are checked with their lines and unknown-parameter errors name it.
+void CheckConfigFile(const std::string& path) {
+  try {
+    const rig_model::StrictReader r(path);
+    const YAML::Node root = rig_model::LoadYamlFile(path);
+    r.CheckKeys(root, kParamNames, "");
+    if (root["time_sync"]) r.CheckKeys(root["time_sync"], kTimeSyncNames, "time_sync");
+    if (root["camera_imu"]) r.CheckKeys(root["camera_imu"], CameraImuKeys(), "camera_imu");
+  } catch (const rig_model::FileError& e) {
+    throw std::invalid_argument(e.what());
+  }
+}
+
+// The calibration files named by ~gyro_calibration_file and ~camera_imu_file (read here, not by
+// roslaunch, so that every error names the file). Their values override parameters of the same name.
+void ReadCalibrationFiles(const ros::NodeHandle& pnh, DriverConfig* c) {
+  std::string path;
+  pnh.param<std::string>("gyro_calibration_file", path, "");
+  try {
+    if (!path.empty()) {
+      const GyroCalibrationFile g = ReadGyroCalibrationFile(path);
+      if (g.gyro_bias_rad_s) {
+        c->gyro_bias_rad_s = *g.gyro_bias_rad_s;
+        c->gyro_bias_calibrated = true;
+      }
+      if (g.gyro_noise_sigma_rad_s) c->gyro_noise_sigma_rad_s = *g.gyro_noise_sigma_rad_s;
+    }
+    pnh.param<std::string>("camera_imu_file", path, "");
+    if (!path.empty()) c->q_camera_imu = ReadCameraImuFile(path).q_camera_imu;
+  } catch (const rig_model::FileError& e) {
+    throw std::invalid_argument(e.what());
+  }
+}
+
 }  // namespace
 
 DriverConfig LoadConfig(const ros::NodeHandle& pnh) {
+  std::string file;
+  pnh.param<std::string>("config_file", file, "");
+  if (!file.empty()) CheckConfigFile(file);
+  try {
+    rig_model::CheckParamNames(pnh, kParamNames);
+    CheckNestedNames(pnh, "time_sync", kTimeSyncNames);
+    CheckNestedNames(pnh, "camera_imu", CameraImuKeys());
+  } catch (const std::invalid_argument& e) {
+    if (file.empty()) throw;
+    throw std::invalid_argument(std::string(e.what()) + " (parameters loaded from " + file + ")");
+  }
   DriverConfig c;
   SerialReaderConfig& r = c.reader;
   pnh.param<std::string>("port", r.port, "/dev/ttyUSB0");
@@ -73,15 +162,18 @@ DriverConfig LoadConfig(const ros::NodeHandle& pnh) {
   pnh.param("publish_in_camera_frame", c.publish_in_camera_frame, false);
   pnh.param<std::string>("camera_frame_id", c.camera_frame_id, "camera_optical");
   std::vector<double> q;
-  if (pnh.getParam("camera_imu/rotation_xyzw", q)) {
+  const bool camera_imu_file = pnh.hasParam("camera_imu_file");  // read by ReadCalibrationFiles
+  if (!camera_imu_file && pnh.getParam("camera_imu/rotation_xyzw", q)) {
     const Eigen::Vector4d v = q.size() == 4 ? Eigen::Vector4d(q[0], q[1], q[2], q[3]) : Eigen::Vector4d::Zero();
     if (!v.allFinite() || v.norm() < 0.5 || v.norm() > 1.5) {
       Refuse(pnh, "camera_imu/rotation_xyzw", "must be a unit quaternion [x, y, z, w]");
     }
     c.q_camera_imu = Eigen::Quaterniond(v(3), v(0), v(1), v(2)).normalized();
-  } else if (c.publish_in_camera_frame) {
-    Refuse(pnh, "camera_imu/rotation_xyzw", "needed by publish_in_camera_frame (load the 3.2.2 calibration YAML)");
+  } else if (!camera_imu_file && c.publish_in_camera_frame) {
+    Refuse(pnh, "camera_imu_file",
+           "needed by publish_in_camera_frame: the 3.2.2 calibration YAML (or set ~camera_imu/rotation_xyzw)");
   }
+  ReadCalibrationFiles(pnh, &c);
 
   c.calibration_duration_s = PositiveParam(pnh, "calibration_duration_s", 5.0);
   pnh.param("calibrate_on_start", c.calibrate_on_start, false);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "pose_ekf/config.h"
 
@@ -37,9 +38,15 @@ class ParamSource {
 // accel_mode off|orientation|position_orientation, quat_integration
 // first_order|exact). Throws std::invalid_argument naming the bad parameter.
 NodeConfig LoadConfig(const ParamSource& params);
+// From the private namespace; a parameter there that LoadConfig does not read is refused
+// ("parameter ~sigma_gyr_rad_s is unknown (did you mean ~sigma_gyro_rad_s?)"), naming ~config_file,
+// the YAML the launch file loaded, when it is set (and checking that file's keys line by line).
 NodeConfig LoadConfig(const ros::NodeHandle& private_nh);
-// The same from a YAML file of config/pose_ekf.yaml's form.
+// The same from a YAML file of config/pose_ekf.yaml's form; an unknown key is refused with the file,
+// its line and the nearest known key.
 NodeConfig LoadConfigFile(const std::string& yaml_path);
+// Every parameter name LoadConfig reads (recorded from LoadConfig itself).
+std::vector<std::string> ParamNames();
 
 // Parsers shared with dynamic_reconfigure and tools; throw std::invalid_argument.
 AccelMode ParseAccelMode(const std::string& s);
