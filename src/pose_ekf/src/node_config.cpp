@@ -3,6 +3,8 @@
 #include <ros/node_handle.h>
 #include <yaml-cpp/yaml.h>
 
+#include "rig_model/ros/params.h"
+
 #include <stdexcept>
 
 namespace pose_ekf {
@@ -11,9 +13,10 @@ namespace {
 class NodeHandleSource : public ParamSource {
  public:
   explicit NodeHandleSource(const ros::NodeHandle& nh) : nh_(nh) {}
-  void Get(const std::string& n, double* v) const override { nh_.param(n, *v, *v); }
-  void Get(const std::string& n, bool* v) const override { nh_.param(n, *v, *v); }
-  void Get(const std::string& n, std::string* v) const override { nh_.param(n, *v, *v); }
+  // Absent: *v stays; a wrong type throws naming the parameter (nh.param() kept the default silently).
+  void Get(const std::string& n, double* v) const override { rig_model::GetParam(nh_, n, v); }
+  void Get(const std::string& n, bool* v) const override { rig_model::GetParam(nh_, n, v); }
+  void Get(const std::string& n, std::string* v) const override { rig_model::GetParam(nh_, n, v); }
 
  private:
   const ros::NodeHandle& nh_;
