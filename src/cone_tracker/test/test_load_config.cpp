@@ -4,6 +4,9 @@
 #include <ros/ros.h>
 
 #include <diagnostic_msgs/DiagnosticStatus.h>
+#include <dynamic_reconfigure/server.h>
+
+#include "cone_tracker/ConeTrackerConfig.h"
 
 #include "cone_tracker/node/node_config.h"
 #include "nodelet_test_util.h"
@@ -86,6 +89,57 @@ TEST(LoadConfig, RefusesAnUnknownParameterWithTheNearestName) {
   EXPECT_EQ(LoadError([](ros::NodeHandle& nh) { nh.setParam("sat_mni", 0.5); }),
             "parameter ~sat_mni is unknown (did you mean ~sat_min?)");
   EXPECT_EQ(LoadError([](ros::NodeHandle& nh) { nh.setParam("diagnostic_period", 0.1); }), "");
+}
+
+// A restart on a running master (issue 17.6): the nodelet's dynamic_reconfigure server wrote every
+// tunable back under ~, enums as ints; the next LoadConfig must read exactly that.
+TEST(LoadConfig, ReadsBackWhatDynamicReconfigureLeft) {
+  ros::NodeHandle nh("~restart");
+  nh.deleteParam("");
+  nh.setParam("layout_file", "/some/layout.yaml");
+  ConeTrackerConfig written = ConeTrackerConfig::__getDefault__();
+  written.peak_refinement = 1;  // templates
+  written.border_px = 7;
+  written.sat_min = 0.4;
+  written.reject_bad_outline = false;
+  {
+    boost::recursive_mutex mutex;
+    dynamic_reconfigure::Server<ConeTrackerConfig> server(mutex, nh);
+    server.updateConfig(written);
+  }
+  XmlRpc::XmlRpcValue left;
+  ASSERT_TRUE(nh.getParam("peak_refinement", left));
+  EXPECT_EQ(left.getType(), XmlRpc::XmlRpcValue::TypeInt);  // why LoadConfig must take the int
+  NodeConfig c;
+  ASSERT_NO_THROW(c = LoadConfig(nh));
+  EXPECT_EQ(c.segmenter.refinement, PeakRefinement::kTemplates);
+  EXPECT_EQ(c.segmenter.border_px, 7);
+  EXPECT_DOUBLE_EQ(c.segmenter.hsi.sat_min, 0.4);
+  EXPECT_FALSE(c.segmenter.reject_bad_outline);
+  EXPECT_NEAR(c.segmenter.hsi.hue_max_rad * 180.0 / M_PI, written.hue_max_deg, 1e-9);
+  EXPECT_DOUBLE_EQ(c.pose.sigma_px, written.sigma_px);
+}
+
+TEST(LoadConfig, PeakRefinementTakesTheNameOrTheCfgInt) {
+  const auto load = [](const XmlRpc::XmlRpcValue& value) {
+    ros::NodeHandle nh("~refinement");
+    nh.deleteParam("");
+    nh.setParam("layout_file", "/some/layout.yaml");
+    nh.setParam("peak_refinement", value);
+    return LoadConfig(nh).segmenter.refinement;
+  };
+  EXPECT_EQ(load(XmlRpc::XmlRpcValue(0)), PeakRefinement::kOutline);
+  EXPECT_EQ(load(XmlRpc::XmlRpcValue(2)), PeakRefinement::kNone);
+  EXPECT_EQ(load(XmlRpc::XmlRpcValue("templates")), PeakRefinement::kTemplates);
+  for (const std::function<void(ros::NodeHandle&)>& bad :
+       {std::function<void(ros::NodeHandle&)>([](ros::NodeHandle& nh) { nh.setParam("peak_refinement", 3); }),
+        std::function<void(ros::NodeHandle&)>([](ros::NodeHandle& nh) { nh.setParam("peak_refinement", -1); }),
+        std::function<void(ros::NodeHandle&)>([](ros::NodeHandle& nh) { nh.setParam("peak_refinement", 1.0); }),
+        std::function<void(ros::NodeHandle&)>([](ros::NodeHandle& nh) { nh.setParam("peak_refinement", "1"); })}) {
+    const std::string error = LoadError(bad);
+    EXPECT_NE(error.find("~peak_refinement must be one of outline (0), templates (1), none (2)"), std::string::npos)
+        << error;
+  }
 }
 
 TEST(BadLayout, TheNodeletReportsTheFileAndField) {

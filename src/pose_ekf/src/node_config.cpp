@@ -14,6 +14,7 @@ namespace {
 class NodeHandleSource : public ParamSource {
  public:
   explicit NodeHandleSource(const ros::NodeHandle& nh) : nh_(nh) {}
+  // Absent: *v stays; a wrong type throws naming the parameter (nh.param() kept the default silently).
   void Get(const std::string& n, double* v) const override { rig_model::GetParam(nh_, n, v); }
   void Get(const std::string& n, bool* v) const override { rig_model::GetParam(nh_, n, v); }
   void Get(const std::string& n, std::string* v) const override { rig_model::GetParam(nh_, n, v); }

@@ -18,50 +18,13 @@ constexpr double kDegToRad = M_PI / 180.0;
 struct Params {
   const ros::NodeHandle& nh;
   std::vector<std::string>* read;
-  bool hasParam(const std::string& name) const {
-    read->push_back(name);
-    return nh.hasParam(name);
-  }
-  template <typename T>
-  bool getParam(const std::string& name, T& value) const {
-    return nh.getParam(name, value);
-  }
 };
 
+// Absent: the struct's default stays; a wrong type throws naming the parameter (rig_model).
 template <typename T>
-void Get(const Params& nh, const std::string& name, T* value) {
-  if (!nh.hasParam(name)) return;  // absent: the struct's default stays
-  if (!nh.getParam(name, *value)) throw std::invalid_argument("parameter ~" + name + " has the wrong type");
-}
-
-// Doubles also accept integers written without a decimal point.
-void Get(const Params& nh, const std::string& name, double* value) {
-  if (!nh.hasParam(name)) return;
-  XmlRpc::XmlRpcValue v;
-  nh.getParam(name, v);
-  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) {
-    *value = static_cast<double>(v);
-  } else if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) {
-    *value = static_cast<int>(v);
-  } else if (v.getType() == XmlRpc::XmlRpcValue::TypeString && (std::string(v) == "nan" || std::string(v).empty())) {
-    *value = NAN;
-  } else {
-    throw std::invalid_argument("parameter ~" + name + " must be a number");
-  }
-}
-
-// Integers: roscpp would silently truncate 2.5 to 2.
-void Get(const Params& nh, const std::string& name, int* value) {
-  if (!nh.hasParam(name)) return;
-  XmlRpc::XmlRpcValue v;
-  nh.getParam(name, v);
-  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) {
-    *value = static_cast<int>(v);
-  } else if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble && static_cast<double>(v) == std::round(double(v))) {
-    *value = int(static_cast<double>(v));
-  } else {
-    throw std::invalid_argument("parameter ~" + name + " must be an integer");
-  }
+void Get(const Params& p, const std::string& name, T* value) {
+  p.read->push_back(name);
+  rig_model::GetParam(p.nh, name, value);
 }
 
 void Check(bool ok, const std::string& what) {
@@ -123,13 +86,15 @@ NodeConfig LoadConfig(const ros::NodeHandle& private_nh) {
   Get(nh, "max_axis_ratio", &s.max_axis_ratio);
   Get(nh, "max_tilt_deg", &s.max_tilt_deg);
   Get(nh, "line_search_misses", &s.line_search_misses);
-  std::string refinement = PeakRefinementName(s.refinement);
-  Get(nh, "peak_refinement", &refinement);
-  try {
-    s.refinement = ParsePeakRefinement(refinement);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(std::string("parameter ~peak_refinement: ") + e.what());
+  // A name or, as dynamic_reconfigure leaves it on the server for the next start, the .cfg enum's int.
+  std::vector<std::string> refinements;
+  for (PeakRefinement r : {PeakRefinement::kOutline, PeakRefinement::kTemplates, PeakRefinement::kNone}) {
+    refinements.push_back(PeakRefinementName(r));
   }
+  int refinement = static_cast<int>(s.refinement);
+  nh.read->push_back("peak_refinement");
+  rig_model::GetEnumParam(nh.nh, "peak_refinement", refinements, &refinement);
+  s.refinement = static_cast<PeakRefinement>(refinement);  // the enum's values are the .cfg's (segmenter.h)
   Get(nh, "reject_bad_outline", &s.reject_bad_outline);
   Get(nh, "template_search_px", &s.template_search_px);
   Get(nh, "outline_outlier_px", &s.outline.outlier_px);

@@ -60,6 +60,31 @@ void GetParam(const ros::NodeHandle& nh, const std::string& name, std::string* v
   *value = static_cast<std::string>(v);
 }
 
+void GetEnumParam(const ros::NodeHandle& nh, const std::string& name, const std::vector<std::string>& names,
+                  int* index) {
+  XmlRpc::XmlRpcValue v;
+  if (!Fetch(nh, name, &v)) return;
+  const int n = static_cast<int>(names.size());
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt && int(v) >= 0 && int(v) < n) {
+    *index = static_cast<int>(v);
+    return;
+  }
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeString) {
+    const auto it = std::find(names.begin(), names.end(), std::string(v));
+    if (it != names.end()) {
+      *index = static_cast<int>(it - names.begin());
+      return;
+    }
+  }
+  std::string list;
+  for (int i = 0; i < n; ++i) list += (i ? ", " : "") + names[i] + " (" + std::to_string(i) + ")";
+  std::string got = "a value of another type";
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeString) got = "'" + std::string(v) + "'";
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) got = std::to_string(int(v));
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) got = std::to_string(double(v));
+  WrongType(name, "one of " + list + " (got " + got + ")");
+}
+
 void CheckParamNames(const ros::NodeHandle& nh, const std::vector<std::string>& known) {
   std::vector<std::string> all;
   if (!nh.getParamNames(all)) return;  // master unreachable: the loads that follow say so

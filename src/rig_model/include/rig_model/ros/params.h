@@ -19,6 +19,12 @@ void GetParam(const ros::NodeHandle& nh, const std::string& name, int* value);
 void GetParam(const ros::NodeHandle& nh, const std::string& name, bool* value);
 void GetParam(const ros::NodeHandle& nh, const std::string& name, std::string* value);
 
+// An enum: `~name` holds one of `names` or its index, the int dynamic_reconfigure writes back for a
+// .cfg enum whose constants are 0, 1, 2, ... in the order of `names`. Absent: *index keeps its default.
+// Throws std::invalid_argument listing the accepted names and indices.
+void GetEnumParam(const ros::NodeHandle& nh, const std::string& name, const std::vector<std::string>& names,
+                  int* index);
+
 // Throws std::invalid_argument for the first parameter under nh's namespace (one level deep) that
 // is not in `known`: "parameter ~sigma_gyr_rad_s is unknown (did you mean ~sigma_gyro_rad_s?)".
 void CheckParamNames(const ros::NodeHandle& nh, const std::vector<std::string>& known);
