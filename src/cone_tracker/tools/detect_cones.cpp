@@ -4,6 +4,8 @@
 // "base":[u,v], "area":a, "solidity":s}, ...], "rejected":[{"bbox":[x,y,w,h],
 // "area":a, "gates":["outline", ...]}, ...]} (or "error"). For tuning the
 // thresholds on one's own photos; no camera calibration (no undistortion).
+// Exit status 1 when any image could not be read or segmented (one stderr line
+// each, naming the file), 2 for bad arguments or config.
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -71,17 +73,28 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::ofstream out(output);
-  int found = 0;
+  if (!out) {
+    std::fprintf(stderr, "detect_cones: cannot write %s\n", output.c_str());
+    return 1;
+  }
+  int found = 0, failed = 0;
   for (const std::string& path : images) {
     nlohmann::json line = {{"image", path}};
     const cv::Mat bgr = cv::imread(path, cv::IMREAD_COLOR);
     if (bgr.empty()) {
       line["error"] = "cannot read the image";
+      std::fprintf(stderr, "detect_cones: %s: cannot read the image (missing, unreadable or not an image)\n",
+                   path.c_str());
+      ++failed;
     } else {
       const cone_tracker::SegmentationResult r =
           seg->Process({bgr.data, bgr.cols, bgr.rows, int(bgr.step), "bgr8"}, cone_tracker::CameraModel());
       line["cones"] = nlohmann::json::array();
-      if (!r.ok) line["error"] = r.error;
+      if (!r.ok) {
+        line["error"] = r.error;
+        std::fprintf(stderr, "detect_cones: %s: %s\n", path.c_str(), r.error.c_str());
+        ++failed;
+      }
       for (const auto& d : r.cones) {
         const auto& b = d.blob;
         line["cones"].push_back({{"bbox", {b.bbox_x, b.bbox_y, b.bbox_w, b.bbox_h}},
@@ -102,6 +115,11 @@ int main(int argc, char** argv) {
     }
     out << line.dump() << "\n";
   }
-  std::printf("detect_cones: %zu images, %d cones\n", images.size(), found);
-  return 0;
+  out.flush();
+  if (!out) {
+    std::fprintf(stderr, "detect_cones: writing %s failed\n", output.c_str());
+    return 1;
+  }
+  std::printf("detect_cones: %zu images, %d cones, %d failed\n", images.size(), found, failed);
+  return failed > 0 ? 1 : 0;
 }
