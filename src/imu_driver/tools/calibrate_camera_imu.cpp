@@ -58,9 +58,15 @@ int main(int argc, char** argv) {
     const YAML::Node in = YAML::LoadFile(argv[1]);
     const Eigen::Vector3d up_in_grid =
         in["up_in_grid"] ? Vec3(in["up_in_grid"], "up_in_grid") : Eigen::Vector3d(0, 0, -1);
-    for (const YAML::Node& pose : in["poses"]) {
-      pairs.push_back(imu_driver::MakeGravityPair(Vec3(pose["accel_mean_m_s2"], "accel_mean_m_s2"),
-                                                  CameraFromGrid(pose), up_in_grid));
+    if (!in["poses"] || !in["poses"].IsSequence()) throw std::runtime_error("'poses' must be a list");
+    for (size_t i = 0; i < in["poses"].size(); ++i) {
+      const YAML::Node pose = in["poses"][i];
+      try {
+        pairs.push_back(imu_driver::MakeGravityPair(Vec3(pose["accel_mean_m_s2"], "accel_mean_m_s2"),
+                                                    CameraFromGrid(pose), up_in_grid));
+      } catch (const std::exception& e) {
+        throw std::runtime_error("poses[" + std::to_string(i) + "]: " + e.what());
+      }
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "calibrate_camera_imu: %s: %s\n", argv[1], e.what());
