@@ -94,7 +94,7 @@ TEST_F(TrackingPanelTest, MaskPreviewShowsTheTopic) {
         pub.publish(img);
         return view->frames() > 0;
       },
-      10.0));
+      60.0));
   panel->hide();  // hidden: the preview unsubscribes, so the tracker stops building debug images
   EXPECT_TRUE(SpinUntil([&] { return pub.getNumSubscribers() == 0; }, 60.0));
 }
