@@ -18,15 +18,15 @@ std::string TempPath(const std::string& name) {
   return "/tmp/cone_tracker_cli_test_" + std::to_string(getpid()) + "_" + name;
 }
 
-struct Run {
+struct ToolRun {
   int status = -1;
   std::string err;
 };
 
-Run RunTool(const std::string& exe, const std::string& args) {
+ToolRun RunTool(const std::string& exe, const std::string& args) {
   const std::string err_path = TempPath("stderr.txt");
   const int raw = std::system((exe + " " + args + " >/dev/null 2>" + err_path).c_str());
-  Run r;
+  ToolRun r;
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
   std::ifstream in(err_path);
   r.err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
@@ -39,7 +39,7 @@ int Lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n'
 TEST(DetectConesCli, UnreadableImagesExitOneWithALineEach) {
   const std::string text = TempPath("not_an_image.png"), missing = TempPath("missing.png"), out = TempPath("d.jsonl");
   std::ofstream(text) << "not a PNG\n";
-  const Run r = RunTool(DETECT_CONES_EXE, "--output " + out + " " + text + " " + missing);
+  const ToolRun r = RunTool(DETECT_CONES_EXE, "--output " + out + " " + text + " " + missing);
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_NE(r.err.find("detect_cones: " + text + ": cannot read the image"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("detect_cones: " + missing + ": cannot read the image"), std::string::npos) << r.err;
@@ -55,7 +55,7 @@ TEST(DetectConesCli, UnreadableImagesExitOneWithALineEach) {
 }
 
 TEST(DetectConesCli, UnwritableOutputExitsOne) {
-  const Run r = RunTool(DETECT_CONES_EXE, "--output /nonexistent_dir/d.jsonl /nonexistent.png");
+  const ToolRun r = RunTool(DETECT_CONES_EXE, "--output /nonexistent_dir/d.jsonl /nonexistent.png");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("cannot write /nonexistent_dir/d.jsonl"), std::string::npos) << r.err;
 }
@@ -75,7 +75,7 @@ std::string GoodCase() {
 TEST(PnpSolveCli, AllCasesSolvedExitsZero) {
   const std::string in = TempPath("good.jsonl"), out = TempPath("good_out.jsonl");
   std::ofstream(in) << GoodCase() << "\n" << GoodCase() << "\n";
-  const Run r = RunTool(PNP_SOLVE_EXE, "--input " + in + " --output " + out);
+  const ToolRun r = RunTool(PNP_SOLVE_EXE, "--input " + in + " --output " + out);
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.err, "");
   std::remove(in.c_str());
@@ -88,7 +88,7 @@ TEST(PnpSolveCli, FailedCasesExitOneWithALineEach) {
                     << "not json\n"
                     << R"({"K":[500,500,320],"model":[],"image":[]})"
                     << "\n";
-  const Run r = RunTool(PNP_SOLVE_EXE, "--input " + in + " --output " + out);
+  const ToolRun r = RunTool(PNP_SOLVE_EXE, "--input " + in + " --output " + out);
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_NE(r.err.find("pnp_solve: " + in + ": line 2: "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("pnp_solve: " + in + ": line 3: bad input: K must be [fx, fy, cx, cy]"), std::string::npos)
@@ -100,10 +100,10 @@ TEST(PnpSolveCli, FailedCasesExitOneWithALineEach) {
 }
 
 TEST(PnpSolveCli, UnreadableInputExitsOne) {
-  const Run r = RunTool(PNP_SOLVE_EXE, "--input /nonexistent.jsonl --output -");
+  const ToolRun r = RunTool(PNP_SOLVE_EXE, "--input /nonexistent.jsonl --output -");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("cannot open /nonexistent.jsonl"), std::string::npos) << r.err;
-  const Run dir = RunTool(PNP_SOLVE_EXE, "--input /tmp --output -");  // a directory opens but cannot be read
+  const ToolRun dir = RunTool(PNP_SOLVE_EXE, "--input /tmp --output -");  // a directory opens but cannot be read
   EXPECT_EQ(dir.status, 1);
   EXPECT_NE(dir.err.find("reading /tmp failed"), std::string::npos) << dir.err;
 }

@@ -6,7 +6,9 @@
 // thresholds on one's own photos; no camera calibration (no undistortion).
 // Exit status 1 when any image could not be read or segmented (one stderr line
 // each, naming the file), 2 for bad arguments or config.
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <memory>
 #include <stdexcept>
@@ -15,6 +17,7 @@
 
 #include <yaml-cpp/yaml.h>
 #include <nlohmann/json.hpp>
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "cone_tracker/vision/segmenter.h"
@@ -64,6 +67,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (config_path == "photos") config_path = std::string(CONE_TRACKER_CONFIG_DIR) + "/photos.yaml";
+  // Our own line per unreadable image names it and says why; OpenCV's warning would be a second one.
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
   std::unique_ptr<cone_tracker::Segmenter> seg;  // built once: the colour table takes ~0.1 s
   try {
     seg = std::make_unique<cone_tracker::Segmenter>(config_path.empty() ? cone_tracker::SegmenterConfig()
@@ -82,9 +87,10 @@ int main(int argc, char** argv) {
     nlohmann::json line = {{"image", path}};
     const cv::Mat bgr = cv::imread(path, cv::IMREAD_COLOR);
     if (bgr.empty()) {
-      line["error"] = "cannot read the image";
-      std::fprintf(stderr, "detect_cones: %s: cannot read the image (missing, unreadable or not an image)\n",
-                   path.c_str());
+      const bool opens = bool(std::ifstream(path, std::ios::binary));
+      const std::string why = opens ? "not an image OpenCV can decode" : std::strerror(errno);
+      line["error"] = "cannot read the image: " + why;
+      std::fprintf(stderr, "detect_cones: %s: cannot read the image: %s\n", path.c_str(), why.c_str());
       ++failed;
     } else {
       const cone_tracker::SegmentationResult r =

@@ -23,16 +23,16 @@ std::string TempPath(const std::string& name) {
   return "/tmp/rig_sim_cli_test_" + std::to_string(getpid()) + "_" + name;
 }
 
-struct Run {
+struct ToolRun {
   int status = -1;
   std::string err;
 };
 
-Run RunValidateBag(const std::string& args) {
+ToolRun RunValidateBag(const std::string& args) {
   const std::string err_path = TempPath("stderr.txt");
   const std::string cmd = std::string(VALIDATE_BAG_EXE) + " " + args + " >/dev/null 2>" + err_path;
   const int raw = std::system(cmd.c_str());
-  Run r;
+  ToolRun r;
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
   std::ifstream in(err_path);
   r.err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
@@ -56,7 +56,7 @@ void CutTo(const std::string& from, const std::string& to, double fraction) {
 
 TEST(ValidateBagCli, GoodBagExitsZero) {
   const std::string path = WriteBag("good");
-  const Run r = RunValidateBag(path);
+  const ToolRun r = RunValidateBag(path);
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.err, "");
   std::remove(path.c_str());
@@ -65,7 +65,7 @@ TEST(ValidateBagCli, GoodBagExitsZero) {
 TEST(ValidateBagCli, TruncatedBagSaysTruncatedAndSuggestsReindex) {
   const std::string path = WriteBag("whole"), cut = TempPath("cut.bag");
   CutTo(path, cut, 0.6);
-  const Run r = RunValidateBag(cut);
+  const ToolRun r = RunValidateBag(cut);
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("validate_bag: reading '" + cut + "': the bag is truncated"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("rosbag reindex " + cut), std::string::npos) << r.err;
@@ -81,7 +81,7 @@ TEST(ValidateBagCli, TruncatedBagSaysTruncatedAndSuggestsReindex) {
 
 TEST(ValidateBagCli, MissingOrNotABagExitsOneNamingTheFile) {
   const std::string missing = TempPath("missing.bag");
-  Run r = RunValidateBag(missing);
+  ToolRun r = RunValidateBag(missing);
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find(missing), std::string::npos) << r.err;
   const std::string text = TempPath("text.bag");
@@ -93,7 +93,7 @@ TEST(ValidateBagCli, MissingOrNotABagExitsOneNamingTheFile) {
 }
 
 TEST(ValidateBagCli, BadArgumentsExitTwo) {
-  Run r = RunValidateBag("");
+  ToolRun r = RunValidateBag("");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("give a bag file"), std::string::npos) << r.err;
   r = RunValidateBag("x.bag --imu-rate fast");  // used to abort in std::stod
@@ -103,7 +103,7 @@ TEST(ValidateBagCli, BadArgumentsExitTwo) {
 
 TEST(ValidateBagCli, FailedChecksAreNamedOnStderr) {
   const std::string path = WriteBag("rates");
-  const Run r = RunValidateBag(path + " --imu-rate 50");  // the bag's IMU runs at 100 Hz
+  const ToolRun r = RunValidateBag(path + " --imu-rate 50");  // the bag's IMU runs at 100 Hz
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("validate_bag: " + path + ": imu/data_raw"), std::string::npos) << r.err;
   std::remove(path.c_str());
