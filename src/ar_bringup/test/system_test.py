@@ -37,16 +37,21 @@ class SystemTest(unittest.TestCase):
         def on_overlay(_):
             cls.overlay_images += 1
         overlay_sub = rospy.Subscriber("ar_overlay/image", Image, on_overlay, queue_size=100)
-        # The bag has ended when the truth has stopped for end_idle_s (wall time; sim time stops with it).
-        end_idle_s, max_wait_s = param("end_idle_s", 4.0), param("max_wait_s", 240.0)
-        start, last_count, last_change = time.monotonic(), 0, time.monotonic()
-        while not rospy.is_shutdown() and time.monotonic() - start < max_wait_s:
-            n = recorder.count("rig_sim/ground_truth")
-            if n != last_count:
-                last_count, last_change = n, time.monotonic()
-            elif n > 0 and time.monotonic() - last_change > end_idle_s:
-                break
-            time.sleep(0.2)
+        max_wait_s = param("max_wait_s", 240.0)  # a hang guard, not a speed limit
+        if param("bag"):
+            cls.wait_for_bag_end(recorder, param("bag"), max_wait_s)
+        else:
+            # Without ~bag: the bag has ended when the truth has stopped for end_idle_s (wall time; sim
+            # time stops with it). On a loaded machine a stalled player can look ended: pass ~bag.
+            end_idle_s = param("end_idle_s", 4.0)
+            start, last_count, last_change = time.monotonic(), 0, time.monotonic()
+            while not rospy.is_shutdown() and time.monotonic() - start < max_wait_s:
+                n = recorder.count("rig_sim/ground_truth")
+                if n != last_count:
+                    last_count, last_change = n, time.monotonic()
+                elif n > 0 and time.monotonic() - last_change > end_idle_s:
+                    break
+                time.sleep(0.2)
         recorder.unregister()
         overlay_sub.unregister()
         cls.rec = recorder.recording()
@@ -59,6 +64,34 @@ class SystemTest(unittest.TestCase):
         if param("figures_file"):
             with open(param("figures_file"), "w") as f:
                 json.dump(cls.figures, f, sort_keys=True, indent=1)
+
+    @classmethod
+    def wait_for_bag_end(cls, recorder, bag_path, max_wait_s):
+        """Until every ground-truth message in the bag has arrived (or sim time has passed the bag's
+        end, should one be dropped), then until the EKF's output has reached that time: conditions on
+        the data, so a player or pipeline stalled by load is waited for instead of taken as the end."""
+        import rosbag
+        from geometry_msgs.msg import PoseWithCovarianceStamped
+        topics = ["rig_sim/ground_truth", "/rig_sim/ground_truth"]
+        with rosbag.Bag(bag_path) as bag:
+            n_truth = bag.get_message_count(topic_filters=topics)
+            clock_end_s = bag.get_end_time()  # what rosbag play's /clock reaches
+            end_s = max((m.header.stamp.to_sec() for _, m, _ in bag.read_messages(topics=topics)), default=0.0)
+        last_ekf = [0.0]
+        sub = rospy.Subscriber("pose_ekf/pose", PoseWithCovarianceStamped,
+                               lambda m: last_ekf.__setitem__(0, max(last_ekf[0], m.header.stamp.to_sec())))
+        deadline = time.monotonic() + max_wait_s
+        while not rospy.is_shutdown() and time.monotonic() < deadline:
+            if recorder.count("rig_sim/ground_truth") >= n_truth or rospy.get_time() >= clock_end_s:
+                break
+            time.sleep(0.2)
+        # The EKF runs on the IMU, which the bag carries to its end; 0.2 s short of it allows for the
+        # last IMU sample preceding the last truth message.
+        while not rospy.is_shutdown() and time.monotonic() < deadline and last_ekf[0] < end_s - 0.2:
+            time.sleep(0.2)
+        sub.unregister()
+        print("system_test: %d of %d truth messages, EKF output up to %.2f s of the bag's %.2f s"
+              % (recorder.count("rig_sim/ground_truth"), n_truth, last_ekf[0], end_s))
 
     @classmethod
     def recovery_figures(cls):

@@ -139,10 +139,47 @@ class EvaluationTest(unittest.TestCase):
         self.assertEqual(len(ev.overlay_t), 0)
 
 
+class EvaluateBagCliTest(unittest.TestCase):
+    """rosrun ar_bringup evaluate_bag on a bag cut short: exit 1, one stderr line saying so."""
+
+    def test_truncated_bag(self):
+        import os
+        import shutil
+        import subprocess
+        import tempfile
+
+        import rosbag
+        import rospy
+        from geometry_msgs.msg import PoseStamped
+
+        d = tempfile.mkdtemp(prefix="ar_bringup_evaluate_bag_")
+        try:
+            whole, cut = os.path.join(d, "whole.bag"), os.path.join(d, "cut.bag")
+            with rosbag.Bag(whole, "w") as bag:
+                for k in range(500):
+                    m = PoseStamped()
+                    m.header.stamp = rospy.Time(1.0 + 0.01 * k)
+                    m.pose.orientation.w = 1.0
+                    bag.write("rig_sim/ground_truth", m, m.header.stamp)
+            with open(whole, "rb") as f:
+                data = f.read()
+            with open(cut, "wb") as f:
+                f.write(data[:len(data) // 2])
+            p = subprocess.run(["rosrun", "ar_bringup", "evaluate_bag", cut], stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, universal_newlines=True, timeout=120)
+            self.assertEqual(p.returncode, 1, p.stderr)
+            self.assertEqual(p.stderr.count("\n"), 1, p.stderr)
+            self.assertIn("evaluate_bag: cannot read %s: the bag is truncated" % cut, p.stderr)
+            self.assertIn("rosbag reindex %s" % cut, p.stderr)
+        finally:
+            shutil.rmtree(d)
+
+
 class AllTests(unittest.TestSuite):
     def __init__(self):
         loader = unittest.defaultTestLoader
-        super().__init__([loader.loadTestsFromTestCase(QuatTest), loader.loadTestsFromTestCase(EvaluationTest)])
+        super().__init__([loader.loadTestsFromTestCase(QuatTest), loader.loadTestsFromTestCase(EvaluationTest),
+                          loader.loadTestsFromTestCase(EvaluateBagCliTest)])
 
 
 if __name__ == "__main__":

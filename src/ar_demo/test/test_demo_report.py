@@ -56,6 +56,23 @@ class ReportTest(unittest.TestCase):
         self.assertAlmostEqual(s.evaluation["orientation_within_3sigma"], 1.0)
         self.assertAlmostEqual(s.evaluation["tracker_position_rms_m"], 0.0, places=6)
 
+    def test_command_line_tool_on_a_truncated_or_missing_bag(self):
+        # Exit status 1 and one stderr line naming the bag, not a traceback.
+        with open(self.bag, "rb") as f:
+            data = f.read()
+        cut = os.path.join(self.dir, "cut.bag")
+        with open(cut, "wb") as f:
+            f.write(data[:len(data) // 2])
+        for bag in (cut, os.path.join(self.dir, "missing.bag")):
+            p = subprocess.run(["rosrun", "ar_demo", "demo_report", "--run", bag, "--out",
+                                os.path.join(self.dir, "bad_report"), "--no-video"],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True)
+            self.assertEqual(p.returncode, 1, p.stderr)
+            self.assertIn("demo_report: ", p.stderr)
+            self.assertIn(bag, p.stderr)
+            self.assertNotIn("Traceback", p.stderr)
+            self.assertEqual(p.stderr.count("\n"), 1, p.stderr)
+
     def test_visible_periods_gates_rates(self):
         s, _ = from_evaluation.summarize(self.bag)
         self.assertEqual(len(s.visible), 2)

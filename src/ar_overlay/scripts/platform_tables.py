@@ -92,12 +92,15 @@ def heading(bag_path):
 
 
 def main(argv):
-    if len(argv) == 3 and argv[1] == "--heading":
-        print("%.1f" % heading(argv[2]))
-    elif len(argv) == 4 and argv[1] == "--tables":
-        print(tables(argv[2], int(argv[3])))
-    else:
-        raise SystemExit(__doc__)
+    try:
+        if len(argv) == 3 and argv[1] == "--heading":
+            print("%.1f" % heading(argv[2]))
+        elif len(argv) == 4 and argv[1] == "--tables":
+            print(tables(argv[2], int(argv[3])))
+        else:
+            raise SystemExit(__doc__)
+    except Exception as e:  # a missing or broken CSV (OSError, ValueError, KeyError) or bag (rosbag's own kinds)
+        raise SystemExit("platform_tables: %s: %s" % (" ".join(argv[1:]), e))
 
 
 if __name__ == "__main__":

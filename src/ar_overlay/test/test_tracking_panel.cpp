@@ -57,7 +57,7 @@ TEST_F(TrackingPanelTest, DrivesPoseEkfSwitchesAndNoise) {
   panel->load(config);
   panel->show();
   // The form appears once pose_ekf's latched description arrives.
-  ASSERT_TRUE(SpinUntil([&] { return panel->findChild<QCheckBox*>("use_accel") != nullptr; }, 20.0))
+  ASSERT_TRUE(SpinUntil([&] { return panel->findChild<QCheckBox*>("use_accel") != nullptr; }, 60.0))
       << "no form built from /pose_ekf/parameter_descriptions";
   for (const char* name : {"use_camera", "use_gyro", "use_accel"})
     EXPECT_TRUE(panel->findChild<QCheckBox*>(name)) << name;
@@ -65,13 +65,13 @@ TEST_F(TrackingPanelTest, DrivesPoseEkfSwitchesAndNoise) {
   auto* sigma = panel->findChild<QDoubleSpinBox*>("sigma_gyro_rad_s");
   ASSERT_TRUE(gyro && sigma);
   // The boxes show the server's values (parameter_updates), then an edit goes back.
-  ASSERT_TRUE(SpinUntil([&] { return gyro->isChecked(); }, 10.0)) << "use_gyro should start on";
+  ASSERT_TRUE(SpinUntil([&] { return gyro->isChecked(); }, 60.0)) << "use_gyro should start on";
   gyro->setChecked(false);
-  EXPECT_TRUE(SpinUntil([&] { return ParamIs("/pose_ekf/use_gyro", false); }, 10.0));
+  EXPECT_TRUE(SpinUntil([&] { return ParamIs("/pose_ekf/use_gyro", false); }, 60.0));
   sigma->setValue(0.05);
-  EXPECT_TRUE(SpinUntil([&] { return ParamIs("/pose_ekf/sigma_gyro_rad_s", 0.05); }, 10.0));
+  EXPECT_TRUE(SpinUntil([&] { return ParamIs("/pose_ekf/sigma_gyro_rad_s", 0.05); }, 60.0));
   gyro->setChecked(true);
-  EXPECT_TRUE(SpinUntil([&] { return ParamIs("/pose_ekf/use_gyro", true); }, 10.0));
+  EXPECT_TRUE(SpinUntil([&] { return ParamIs("/pose_ekf/use_gyro", true); }, 60.0));
   // The colour section has no server: no form, and nothing crashes.
   EXPECT_FALSE(panel->findChild<QDoubleSpinBox*>("hue_min_deg"));
 }
@@ -94,9 +94,9 @@ TEST_F(TrackingPanelTest, MaskPreviewShowsTheTopic) {
         pub.publish(img);
         return view->frames() > 0;
       },
-      10.0));
+      60.0));
   panel->hide();  // hidden: the preview unsubscribes, so the tracker stops building debug images
-  EXPECT_TRUE(SpinUntil([&] { return pub.getNumSubscribers() == 0; }, 10.0));
+  EXPECT_TRUE(SpinUntil([&] { return pub.getNumSubscribers() == 0; }, 60.0));
 }
 
 }  // namespace

@@ -48,23 +48,40 @@ int main(int argc, char** argv) {
     return 2;
   }
   Eigen::Vector3d eye(1.0, -1.3, 0.9);
-  if (argc >= 6) eye << std::atof(argv[3]), std::atof(argv[4]), std::atof(argv[5]);
+  for (int i = 0; argc >= 6 && i < 3; ++i) {
+    char* end = nullptr;
+    eye[i] = std::strtod(argv[3 + i], &end);
+    if (end == argv[3 + i] || *end != '\0') {
+      std::fprintf(stderr, "ar_overlay_render: eye_%c must be a number in metres, got '%s'\n", "xyz"[i], argv[3 + i]);
+      return 2;
+    }
+  }
   const CameraIntrinsics k{1024, 768, 800, 800, 511.5, 383.5, {-0.2, 0.05, 0, 0, 0}};
   const Eigen::Isometry3d T_camera_cones = CameraLookAt(eye, Eigen::Vector3d(0, 0, 0.3)).inverse();
   try {
     Overlay overlay;
-    for (const std::string& e : overlay.LoadScene(argv[1])) std::fprintf(stderr, "model not loaded: %s\n", e.c_str());
+    const std::vector<std::string> load_errors = overlay.LoadScene(argv[1]);
+    for (const std::string& e : load_errors)
+      std::fprintf(stderr, "ar_overlay_render: %s: model not loaded: %s\n", argv[1], e.c_str());
     overlay.SetJointPositions({{"joint_a1", 0.5}, {"joint_a2", -0.4}, {"joint_a3", 0.6}, {"joint_a5", 0.8}});
     cv::Mat background = Floor(k, T_camera_cones);
     if (argc == 7 || argc == 4) {
       background = cv::imread(argv[argc - 1]);
+      if (background.empty()) {
+        std::fprintf(stderr, "ar_overlay_render: cannot read the background image %s\n", argv[argc - 1]);
+        return 1;
+      }
       cv::resize(background, background, cv::Size(k.width_px, k.height_px));
     }
     std::string enc;
     cv::Mat out;
     overlay.Process(background, "bgr8", k, T_camera_cones, out, enc);
-    cv::imwrite(argv[2], out);
+    if (!cv::imwrite(argv[2], out)) {
+      std::fprintf(stderr, "ar_overlay_render: cannot write %s\n", argv[2]);
+      return 1;
+    }
     std::printf("wrote %s (%s)\n", argv[2], overlay.gl_renderer().c_str());
+    if (!load_errors.empty()) return 1;  // written, but without the models named above
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ar_overlay_render: %s\n", e.what());
     return 1;

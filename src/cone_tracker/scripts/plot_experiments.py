@@ -69,7 +69,10 @@ def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
     out = sys.argv[1]
-    data = load(os.path.join(out, "trials.csv"))
+    try:
+        data = load(os.path.join(out, "trials.csv"))
+    except (OSError, ValueError, KeyError) as e:
+        sys.exit("plot_experiments: cannot read %s: %s" % (os.path.join(out, "trials.csv"), e))
     for name, group, points, sigmas in FIGURES:
         keys = [(group, points, float(s)) for s in sigmas if (group, points, float(s)) in data]
         if not keys:

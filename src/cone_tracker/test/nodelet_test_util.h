@@ -36,8 +36,10 @@ class NodeletRig {
   void PublishInfo(const sensor_msgs::CameraInfo& info);
   // Until the status counts at least `frames` frames (a fresh status, not an old one).
   bool WaitForFrames(double frames);
-  // Lets in-flight messages arrive, then: was a pose with this stamp published?
-  bool SettleAndCheckPose(const ros::Time& stamp);
+  // Was a pose published for the frame with this stamp? Call after WaitForFrames for that frame, with
+  // the "poses published" count from before it: the nodelet's own count decides (no waiting for a pose
+  // that might still come); when it went up, waits for the pose itself, which may trail /diagnostics.
+  bool PoseOfFrame(const ros::Time& stamp, double poses_before);
   bool Reconfigure(const std::vector<std::pair<std::string, double>>& doubles);
 
   ros::NodeHandle nh;

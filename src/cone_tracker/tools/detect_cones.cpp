@@ -4,8 +4,12 @@
 // "base":[u,v], "area":a, "solidity":s}, ...], "rejected":[{"bbox":[x,y,w,h],
 // "area":a, "gates":["outline", ...]}, ...]} (or "error"). For tuning the
 // thresholds on one's own photos; no camera calibration (no undistortion).
+// Exit status 1 when any image could not be read or segmented (one stderr line
+// each, naming the file), 2 for bad arguments or config.
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <memory>
 #include <stdexcept>
@@ -14,6 +18,7 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "cone_tracker/vision/segmenter.h"
@@ -94,6 +99,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (config_path == "photos") config_path = std::string(CONE_TRACKER_CONFIG_DIR) + "/photos.yaml";
+  // Our own line per unreadable image names it and says why; OpenCV's warning would be a second one.
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
   std::unique_ptr<cone_tracker::Segmenter> seg;  // built once: the colour table takes ~0.1 s
   try {
     seg = std::make_unique<cone_tracker::Segmenter>(config_path.empty() ? cone_tracker::SegmenterConfig()
@@ -106,17 +113,29 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::ofstream out(output);
-  int found = 0;
+  if (!out) {
+    std::fprintf(stderr, "detect_cones: cannot write %s\n", output.c_str());
+    return 1;
+  }
+  int found = 0, failed = 0;
   for (const std::string& path : images) {
     nlohmann::json line = {{"image", path}};
     const cv::Mat bgr = cv::imread(path, cv::IMREAD_COLOR);
     if (bgr.empty()) {
-      line["error"] = "cannot read the image";
+      const bool opens = bool(std::ifstream(path, std::ios::binary));
+      const std::string why = opens ? "not an image OpenCV can decode" : std::strerror(errno);
+      line["error"] = "cannot read the image: " + why;
+      std::fprintf(stderr, "detect_cones: %s: cannot read the image: %s\n", path.c_str(), why.c_str());
+      ++failed;
     } else {
       const cone_tracker::SegmentationResult r =
           seg->Process({bgr.data, bgr.cols, bgr.rows, int(bgr.step), "bgr8"}, cone_tracker::CameraModel());
       line["cones"] = nlohmann::json::array();
-      if (!r.ok) line["error"] = r.error;
+      if (!r.ok) {
+        line["error"] = r.error;
+        std::fprintf(stderr, "detect_cones: %s: %s\n", path.c_str(), r.error.c_str());
+        ++failed;
+      }
       for (const auto& d : r.cones) {
         const auto& b = d.blob;
         line["cones"].push_back({{"bbox", {b.bbox_x, b.bbox_y, b.bbox_w, b.bbox_h}},
@@ -137,6 +156,11 @@ int main(int argc, char** argv) {
     }
     out << line.dump() << "\n";
   }
-  std::printf("detect_cones: %zu images, %d cones\n", images.size(), found);
-  return 0;
+  out.flush();
+  if (!out) {
+    std::fprintf(stderr, "detect_cones: writing %s failed\n", output.c_str());
+    return 1;
+  }
+  std::printf("detect_cones: %zu images, %d cones, %d failed\n", images.size(), found, failed);
+  return failed > 0 ? 1 : 0;
 }

@@ -10,6 +10,7 @@
 #include <iostream>
 #include <map>
 #include <random>
+#include <stdexcept>
 
 #include "experiment_methods.h"
 #include "monte_carlo.h"
@@ -95,6 +96,7 @@ void RunSetups(const std::string& out, int trials_per_setup) {
     setups.push_back({name, 0, 9, s});
   }
   std::ofstream trials_csv(out + "/trials.csv"), summary_csv(out + "/summary.csv");
+  if (!trials_csv || !summary_csv) throw std::runtime_error("cannot write " + out + "/trials.csv and summary.csv");
   trials_csv << "setup,group,points,sigma_px,trial,method,ok,rot_err_deg,pos_err_mm,time_us\n";
   summary_csv << "setup,method,ok,failed,median_rot_err_deg,median_pos_err_mm,median_time_us\n";
   unsigned seed = 100;
@@ -158,24 +160,44 @@ void ConeFailures(int count) {
 int main(int argc, char** argv) {
   std::string out = "out/experiments";
   int trials = 500, cone_trials = 10000, mc_trials = 1000;
+  const char* usage = "usage: cone_tracker_experiments --out DIR [--trials N] [--cone-trials N] [--mc-trials N]\n";
+  if (argc % 2 == 0) {
+    std::cerr << "cone_tracker_experiments: " << argv[argc - 1] << " needs a value\n" << usage;
+    return 2;
+  }
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
-    if (a == "--out")
+    int* count = a == "--trials"        ? &trials
+                 : a == "--cone-trials" ? &cone_trials
+                 : a == "--mc-trials"   ? &mc_trials
+                                        : nullptr;
+    if (a == "--out") {
       out = argv[i + 1];
-    else if (a == "--trials")
-      trials = std::stoi(argv[i + 1]);
-    else if (a == "--cone-trials")
-      cone_trials = std::stoi(argv[i + 1]);
-    else if (a == "--mc-trials")
-      mc_trials = std::stoi(argv[i + 1]);
-    else {
-      std::cerr << "usage: cone_tracker_experiments --out DIR [--trials N] [--cone-trials N] [--mc-trials N]\n";
+      continue;
+    }
+    if (!count) {
+      std::cerr << "cone_tracker_experiments: unknown argument '" << a << "'\n" << usage;
+      return 2;
+    }
+    try {
+      size_t used = 0;
+      *count = std::stoi(argv[i + 1], &used);
+      if (used != std::string(argv[i + 1]).size() || *count < 1) throw std::invalid_argument("not a positive count");
+    } catch (const std::exception&) {
+      std::cerr << "cone_tracker_experiments: " << a << " needs a positive whole number, got '" << argv[i + 1] << "'\n";
       return 2;
     }
   }
-  cone_tracker::experiments::RunSetups(out, trials);
-  cone_tracker::experiments::ConeFailures(cone_trials);
-  std::ofstream mc(out + "/monte_carlo.txt");
-  cone_tracker::experiments::MonteCarloTables(mc_trials, std::cout, mc);
+  try {
+    cone_tracker::experiments::RunSetups(out, trials);
+    cone_tracker::experiments::ConeFailures(cone_trials);
+    std::ofstream mc(out + "/monte_carlo.txt");
+    if (!mc) throw std::runtime_error("cannot write " + out + "/monte_carlo.txt");
+    cone_tracker::experiments::MonteCarloTables(mc_trials, std::cout, mc);
+    if (!mc.flush()) throw std::runtime_error("writing " + out + "/monte_carlo.txt failed");
+  } catch (const std::exception& e) {
+    std::cerr << "cone_tracker_experiments: " << e.what() << "\n";
+    return 1;
+  }
   return 0;
 }

@@ -4,6 +4,7 @@
 //               "image":[[u,v],…], "sigma_px":s}   (optional "init":{"q":[w,x,y,z],"t":[x,y,z]})
 // Output line: {"ok":bool, "q":[w,x,y,z], "t":[x,y,z], "cov6":[36, rotation vector then
 //               translation], "iterations":n, "reproj_rms_px":e, "time_us":µs} (+ "error" when !ok)
+// Exit status 1 when any case failed (one stderr line each, with its line number), 2 for bad arguments.
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -72,11 +73,23 @@ int main(int argc, char** argv) {
       result["ok"] = false;
       result["error"] = e.what();
     }
-    if (!result["ok"].get<bool>())
+    if (!result["ok"].get<bool>()) {
       result["error"] = "line " + std::to_string(line_number) + ": " + result["error"].get<std::string>();
-    failures += result["ok"].get<bool>() ? 0 : 1;
+      std::cerr << "pnp_solve: " << (input == "-" ? "stdin" : input) << ": " << result["error"].get<std::string>()
+                << "\n";
+      ++failures;
+    }
     out << result.dump() << "\n";
   }
-  if (failures > 0) std::cerr << "pnp_solve: " << failures << " case(s) failed, see \"error\" in the output\n";
-  return 0;
+  if (in.bad()) {
+    std::cerr << "pnp_solve: reading " << input << " failed after line " << line_number << "\n";
+    return 1;
+  }
+  out.flush();
+  if (!out) {
+    std::cerr << "pnp_solve: writing " << output << " failed\n";
+    return 1;
+  }
+  if (failures > 0) std::cerr << "pnp_solve: " << failures << " of " << line_number << " line(s) failed\n";
+  return failures > 0 ? 1 : 0;
 }

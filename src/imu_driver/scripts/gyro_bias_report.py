@@ -12,23 +12,60 @@ per-orientation accelerometer means that calibrate_camera_imu takes as accel_mea
   gyro_bias_report.py still.bag --topic imu/data_raw --png bias.png --yaml gyro_calibration.yaml
 """
 import argparse
+import os
+import struct
 import sys
 
 import numpy as np
 
 
+def bag_truncation_note(path):
+    """A bag's index sits at its end (the header's index_pos): a bag cut short (recorder killed, disk
+    full, partial copy) has its header pointing past the end of the file, and rosbag then reports only
+    a short read. Returns the explanation, or "" when the bag is not cut."""
+    try:
+        with open(path, "rb") as f:
+            if f.read(13) != b"#ROSBAG V2.0\n":
+                return ""
+            header = f.read(struct.unpack("<I", f.read(4))[0])
+            size = os.fstat(f.fileno()).st_size
+    except (OSError, struct.error):
+        return ""
+    i = 0
+    while i + 4 <= len(header):
+        n = struct.unpack_from("<I", header, i)[0]
+        field = header[i + 4:i + 4 + n]
+        i += 4 + n
+        if field.startswith(b"index_pos=") and len(field) == 18:
+            index_pos = struct.unpack_from("<Q", field, 10)[0]
+            if index_pos >= size:
+                return ("the bag is truncated (its index should start at byte %d but the file has %d bytes); "
+                        "try `rosbag reindex %s` to recover the messages before the cut" % (index_pos, size, path))
+    return ""
+
+
 def load(path, topic):
     if path.endswith(".csv"):
-        d = np.loadtxt(path, delimiter=",", comments="#")
+        try:
+            d = np.loadtxt(path, delimiter=",", comments="#", ndmin=2)
+        except (OSError, ValueError) as e:
+            sys.exit("gyro_bias_report: cannot read %s: %s" % (path, e))
+        if d.shape[1] < 7:
+            sys.exit("gyro_bias_report: %s: need 7 columns (t, gyro x y z, accel x y z), found %d"
+                     % (path, d.shape[1]))
         return d[:, 0], d[:, 1:4], d[:, 4:7]
     import rosbag  # only needed for bags
 
     t, g, a = [], [], []
-    with rosbag.Bag(path) as bag:
-        for _, m, _ in bag.read_messages(topics=[topic]):
-            t.append(m.header.stamp.to_sec())
-            g.append((m.angular_velocity.x, m.angular_velocity.y, m.angular_velocity.z))
-            a.append((m.linear_acceleration.x, m.linear_acceleration.y, m.linear_acceleration.z))
+    try:
+        with rosbag.Bag(path) as bag:
+            for _, m, _ in bag.read_messages(topics=[topic]):
+                t.append(m.header.stamp.to_sec())
+                g.append((m.angular_velocity.x, m.angular_velocity.y, m.angular_velocity.z))
+                a.append((m.linear_acceleration.x, m.linear_acceleration.y, m.linear_acceleration.z))
+    except Exception as e:  # rosbag raises several kinds (and OSError) for a missing or broken bag
+        note = bag_truncation_note(path)
+        sys.exit("gyro_bias_report: cannot read %s: %s" % (path, "%s (rosbag: %s)" % (note, e) if note else e))
     if not t:
         sys.exit("gyro_bias_report: no %s messages in %s" % (topic, path))
     return np.array(t), np.array(g), np.array(a)

@@ -25,8 +25,8 @@ class PtyWriter : public PseudoTerminal {
   }
 };
 
-// Polls cond every 5 ms; false after timeout_s (a failure deadline, not a speed limit).
-inline bool WaitFor(const std::function<bool()>& cond, double timeout_s = 10.0) {
+// Polls cond every 5 ms; false after timeout_s (a hang guard, not a speed limit: generous for a loaded machine).
+inline bool WaitFor(const std::function<bool()>& cond, double timeout_s = 60.0) {
   const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
   while (std::chrono::steady_clock::now() < until) {
     if (cond()) return true;

@@ -11,7 +11,7 @@ from tf2_msgs.msg import TFMessage
 
 
 class LaunchFiles(unittest.TestCase):
-    def collect(self, topic, n, timeout_s=20.0):
+    def collect(self, topic, n, timeout_s=60.0):  # a hang guard, not a speed limit
         msgs = []
         sub = rospy.Subscriber(topic, Imu, msgs.append)
         end = time.time() + timeout_s
@@ -39,7 +39,7 @@ class LaunchFiles(unittest.TestCase):
     def test_camera_imu_static_tf(self):
         got = []
         sub = rospy.Subscriber("/tf_static", TFMessage, lambda m: got.extend(m.transforms))
-        end = time.time() + 20.0
+        end = time.time() + 60.0
         while not any(t.child_frame_id == "imu" for t in got) and time.time() < end:
             time.sleep(0.05)
         sub.unregister()

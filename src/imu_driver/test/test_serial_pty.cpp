@@ -84,7 +84,9 @@ TEST_F(PtyDriverTest, MissingPortRetriesThenFuzzedStreamIsDecodedExactly) {
   std::mt19937 rng(21);
   const test::ScriptedStream s = test::MakeScriptedStream(rng, 300);
   imu.WritePaced(s.bytes);
-  ASSERT_TRUE(test::WaitFor([&] { return NumSamples() >= s.valid.size(); }));
+  // The counts are published after each read, the samples within it: wait for both (every byte parsed).
+  ASSERT_TRUE(test::WaitFor(
+      [&] { return NumSamples() >= s.valid.size() && reader_->status().parser.bytes_in == s.bytes.size(); }));
   ExpectSamples(0, s.valid);
   const SerialReaderStatus st = reader_->status();
   EXPECT_EQ(st.parser.bad_crc, s.expected.bad_crc);

@@ -9,12 +9,14 @@
 #include <Eigen/Geometry>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <thread>
 
@@ -28,11 +30,27 @@ namespace {
 std::atomic<bool> g_stop{false};
 void OnSignal(int) { g_stop = true; }
 
-Eigen::Vector3d ParseVector(const std::string& s) {
+// A whole number, or throws naming the option.
+double ParseNumber(const std::string& option, const std::string& s) {
+  size_t used = 0;
+  double v = 0.0;
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != s.size() || !std::isfinite(v))
+    throw std::invalid_argument(option + " needs a number, got '" + s + "'");
+  return v;
+}
+
+Eigen::Vector3d ParseVector(const std::string& option, const std::string& s) {
   Eigen::Vector3d v = Eigen::Vector3d::Zero();
   std::stringstream ss(s);
   std::string item;
-  for (int i = 0; i < 3 && std::getline(ss, item, ','); ++i) v(i) = std::stod(item);
+  int i = 0;
+  for (; i < 3 && std::getline(ss, item, ','); ++i) v(i) = ParseNumber(option, item);
+  if (i != 3 || std::getline(ss, item)) throw std::invalid_argument(option + " needs x,y,z, got '" + s + "'");
   return v;
 }
 
@@ -48,24 +66,36 @@ int main(int argc, char** argv) {
       --i;
       continue;
     }
-    if (!a.count(argv[i]) || i + 1 >= argc) {
+    if (!a.count(argv[i])) {
       std::fprintf(stderr, "crista_sim: unknown option %s\n", argv[i]);
+      return 2;
+    }
+    if (i + 1 >= argc) {
+      std::fprintf(stderr, "crista_sim: %s needs a value\n", argv[i]);
       return 2;
     }
     a[argv[i]] = argv[i + 1];
   }
-  const double rate_hz = std::stod(a["--rate"]);
-  const double seconds = std::stod(a["--seconds"]);
-  const Eigen::Vector3d omega = ParseVector(a["--omega"]);
-  const Eigen::Vector3d bias = ParseVector(a["--gyro-bias"]);
-  const double gyro_sigma = std::stod(a["--gyro-sigma"]);
-  const double accel_sigma = std::stod(a["--accel-sigma"]);
-  const double garbage = std::stod(a["--garbage"]);
+  double rate_hz = 0.0, seconds = 0.0, gyro_sigma = 0.0, accel_sigma = 0.0, garbage = 0.0, seed = 0.0;
+  Eigen::Vector3d omega, bias;
+  try {
+    rate_hz = ParseNumber("--rate", a["--rate"]);
+    seconds = ParseNumber("--seconds", a["--seconds"]);
+    omega = ParseVector("--omega", a["--omega"]);
+    bias = ParseVector("--gyro-bias", a["--gyro-bias"]);
+    gyro_sigma = ParseNumber("--gyro-sigma", a["--gyro-sigma"]);
+    accel_sigma = ParseNumber("--accel-sigma", a["--accel-sigma"]);
+    garbage = ParseNumber("--garbage", a["--garbage"]);
+    seed = ParseNumber("--seed", a["--seed"]);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "crista_sim: %s\n", e.what());
+    return 2;
+  }
   if (!(rate_hz > 0.0)) {
     std::fprintf(stderr, "crista_sim: --rate must be positive\n");
     return 2;
   }
-  std::mt19937 rng(static_cast<unsigned>(std::stoul(a["--seed"])));
+  std::mt19937 rng(static_cast<unsigned>(seed));
   std::normal_distribution<double> n(0.0, 1.0);
   std::uniform_real_distribution<double> u(0.0, 1.0);
 

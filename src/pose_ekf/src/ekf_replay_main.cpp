@@ -2,6 +2,7 @@
 //   [--camera-topic cone_tracker/pose] [--imu-topic imu/data_raw]
 #include <cstring>
 #include <iostream>
+#include <string>
 
 #include "pose_ekf/replay.h"
 
@@ -34,7 +35,12 @@ int main(int argc, char** argv) {
     if (!config_path.empty()) o.config = pose_ekf::LoadConfigFile(config_path);
     pose_ekf::RunReplay(o, std::cerr);
   } catch (const std::exception& e) {
-    std::cerr << "ekf_replay: " << e.what() << "\n";
+    const std::string what = e.what();
+    // rosbag reports a bag cut short (recorder killed, partial copy) only as a failed read.
+    const bool short_read = what.find("wanted") != std::string::npos || what.find("unindexed") != std::string::npos ||
+                            what.find("Bag unindexed") != std::string::npos;
+    std::cerr << "ekf_replay: " << what
+              << (short_read ? "; the bag looks truncated: try `rosbag reindex " + o.bag_path + "`" : "") << "\n";
     return 1;
   }
   return 0;

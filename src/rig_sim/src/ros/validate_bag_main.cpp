@@ -1,5 +1,6 @@
 // rosrun rig_sim validate_bag FILE.bag [--imu-rate HZ] [--camera-rate HZ] [--max-gap-factor F]
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "rig_sim/ros/bag_reader.h"
@@ -10,19 +11,26 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has_value = i + 1 < argc;
+    double* number = a == "--imu-rate"         ? &cfg.imu_rate_hz
+                     : a == "--camera-rate"    ? &cfg.camera_rate_hz
+                     : a == "--max-gap-factor" ? &cfg.max_gap_factor
+                                               : nullptr;
     if (a == "--help" || a == "-h") {
       std::printf(
           "usage: validate_bag FILE.bag [--imu-rate HZ] [--camera-rate HZ] [--max-gap-factor F]\n"
           "Checks topic rates, gaps, monotonic stamps, IMU norms at rest and that camera_info\n"
-          "matches the images. Exit status 0 when every check passes, 1 otherwise.\n");
+          "matches the images. Exit status 0 when every check passes, 1 otherwise (a bag that\n"
+          "cannot be read, e.g. truncated, included), 2 for bad arguments.\n");
       return 0;
-    } else if (a == "--imu-rate" && has_value)
-      cfg.imu_rate_hz = std::stod(argv[++i]);
-    else if (a == "--camera-rate" && has_value)
-      cfg.camera_rate_hz = std::stod(argv[++i]);
-    else if (a == "--max-gap-factor" && has_value)
-      cfg.max_gap_factor = std::stod(argv[++i]);
-    else if (path.empty() && a[0] != '-')
+    } else if (number && has_value) {
+      const std::string v = argv[++i];
+      char* end = nullptr;
+      *number = std::strtod(v.c_str(), &end);
+      if (v.empty() || *end != '\0' || !(*number > 0.0)) {
+        std::fprintf(stderr, "validate_bag: %s needs a positive number, got '%s'\n", a.c_str(), v.c_str());
+        return 2;
+      }
+    } else if (path.empty() && !a.empty() && a[0] != '-')
       path = a;
     else {
       std::fprintf(stderr, "validate_bag: bad argument '%s' (see --help)\n", a.c_str());
@@ -41,5 +49,7 @@ int main(int argc, char** argv) {
   }
   const rig_sim::ValidationReport report = rig_sim::ValidateContents(contents, cfg);
   std::printf("%s%s: %s\n", report.Text().c_str(), path.c_str(), report.ok() ? "OK" : "FAILED");
+  for (const rig_sim::Check& c : report.checks)
+    if (!c.ok) std::fprintf(stderr, "validate_bag: %s: %s: %s\n", path.c_str(), c.name.c_str(), c.message.c_str());
   return report.ok() ? 0 : 1;
 }

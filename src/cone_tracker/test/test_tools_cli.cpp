@@ -1,0 +1,111 @@
+// detect_cones and pnp_solve as a user runs them: a non-zero exit status when any input failed,
+// and one stderr line per failure naming the file or the case.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+namespace {
+
+std::string TempPath(const std::string& name) {
+  return "/tmp/cone_tracker_cli_test_" + std::to_string(getpid()) + "_" + name;
+}
+
+struct ToolRun {
+  int status = -1;
+  std::string err;
+};
+
+ToolRun RunTool(const std::string& exe, const std::string& args) {
+  const std::string err_path = TempPath("stderr.txt");
+  const int raw = std::system((exe + " " + args + " >/dev/null 2>" + err_path).c_str());
+  ToolRun r;
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  std::ifstream in(err_path);
+  r.err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  std::remove(err_path.c_str());
+  return r;
+}
+
+int Lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
+
+TEST(DetectConesCli, UnreadableImagesExitOneWithALineEach) {
+  const std::string text = TempPath("not_an_image.png"), missing = TempPath("missing.png"), out = TempPath("d.jsonl");
+  std::ofstream(text) << "not a PNG\n";
+  const ToolRun r = RunTool(DETECT_CONES_EXE, "--output " + out + " " + text + " " + missing);
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("detect_cones: " + text + ": cannot read the image"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("detect_cones: " + missing + ": cannot read the image"), std::string::npos) << r.err;
+  EXPECT_EQ(Lines(r.err), 2) << r.err;
+  // The JSON lines still say which image failed.
+  std::ifstream in(out);
+  std::string line;
+  int lines = 0;
+  while (std::getline(in, line)) lines += line.find("\"error\"") != std::string::npos ? 1 : 0;
+  EXPECT_EQ(lines, 2);
+  std::remove(text.c_str());
+  std::remove(out.c_str());
+}
+
+TEST(DetectConesCli, UnwritableOutputExitsOne) {
+  const ToolRun r = RunTool(DETECT_CONES_EXE, "--output /nonexistent_dir/d.jsonl /nonexistent.png");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("cannot write /nonexistent_dir/d.jsonl"), std::string::npos) << r.err;
+}
+
+// A camera 5 m in front of five points on the model's z = 0 plane, identity rotation.
+std::string GoodCase() {
+  const double pts[5][2] = {{0.0, 0.0}, {0.5, 0.1}, {-0.4, 0.3}, {0.2, -0.5}, {-0.3, -0.2}};
+  std::string model, image;
+  for (const auto& p : pts) {
+    model += std::string(model.empty() ? "" : ",") + "[" + std::to_string(p[0]) + "," + std::to_string(p[1]) + ",0]";
+    image += std::string(image.empty() ? "" : ",") + "[" + std::to_string(500.0 * p[0] / 5.0 + 320.0) + "," +
+             std::to_string(500.0 * p[1] / 5.0 + 240.0) + "]";
+  }
+  return R"({"K":[500,500,320,240],"model":[)" + model + R"(],"image":[)" + image + R"(],"sigma_px":1})";
+}
+
+TEST(PnpSolveCli, AllCasesSolvedExitsZero) {
+  const std::string in = TempPath("good.jsonl"), out = TempPath("good_out.jsonl");
+  std::ofstream(in) << GoodCase() << "\n" << GoodCase() << "\n";
+  const ToolRun r = RunTool(PNP_SOLVE_EXE, "--input " + in + " --output " + out);
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  std::remove(in.c_str());
+  std::remove(out.c_str());
+}
+
+TEST(PnpSolveCli, FailedCasesExitOneWithALineEach) {
+  const std::string in = TempPath("bad.jsonl"), out = TempPath("bad_out.jsonl");
+  std::ofstream(in) << GoodCase() << "\n"
+                    << "not json\n"
+                    << R"({"K":[500,500,320],"model":[],"image":[]})"
+                    << "\n";
+  const ToolRun r = RunTool(PNP_SOLVE_EXE, "--input " + in + " --output " + out);
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("pnp_solve: " + in + ": line 2: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("pnp_solve: " + in + ": line 3: bad input: K must be [fx, fy, cx, cy]"), std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("line 1:"), std::string::npos) << r.err;
+  EXPECT_EQ(Lines(r.err), 3) << r.err;  // two cases and the summary
+  std::remove(in.c_str());
+  std::remove(out.c_str());
+}
+
+TEST(PnpSolveCli, UnreadableInputExitsOne) {
+  const ToolRun r = RunTool(PNP_SOLVE_EXE, "--input /nonexistent.jsonl --output -");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("cannot open /nonexistent.jsonl"), std::string::npos) << r.err;
+  const ToolRun dir = RunTool(PNP_SOLVE_EXE, "--input /tmp --output -");  // a directory opens but cannot be read
+  EXPECT_EQ(dir.status, 1);
+  EXPECT_NE(dir.err.find("reading /tmp failed"), std::string::npos) << dir.err;
+}
+
+}  // namespace
