@@ -36,6 +36,12 @@ std::string EkfConfig::Validate() const {
   Check(err, "max_delay_s", max_delay_s, 0.0, true);
   Check(err, "time_jump_reset_s", time_jump_reset_s, 0.0, false);
   Check(err, "max_predict_step_s", max_predict_step_s, 0.0, false);
+  if (!(camera_gate_chi2 >= 0.0 && std::isfinite(camera_gate_chi2))) {
+    err << "camera_gate_chi2 must be finite and >= 0, 0 disables the gate (got " << camera_gate_chi2 << "); ";
+  }
+  if (reinit_after_rejections < 0) {
+    err << "reinit_after_rejections must be >= 0, 0 never re-initialises (got " << reinit_after_rejections << "); ";
+  }
   return err.str();
 }
 

@@ -4,6 +4,7 @@
 
 #include <Eigen/Cholesky>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace pose_ekf {
@@ -16,6 +17,28 @@ namespace {
 constexpr double kCameraRadialVariance = 1e-10;
 
 void NormalizeQuat(StateVector& x) { x.segment<4>(kQ).normalize(); }  // (5.41)
+
+// The camera gate's statistic: yᵀ S⁻¹ y for the innovation y and its
+// covariance S that the update uses, on the 6 dof a pose has. The quaternion
+// rows are taken on the plane tangent to the unit sphere at the prediction
+// (the plane R lives on, 5.6.4): along q itself y is only the O(angle²) gap
+// between two unit quaternions and S only kCameraRadialVariance, so the 7-dof
+// yᵀ S⁻¹ y would grow with the fourth power of a rotation error of a few
+// degrees. The statistic does not depend on the basis of the plane. NaN when
+// S is not positive definite there.
+double CameraGateStatistic(const Eigen::Matrix<double, 7, 1>& y, const Eigen::Matrix<double, 7, 7>& S,
+                           const pose_math::Quat& q_pred) {
+  Eigen::Matrix<double, 6, 7> T = Eigen::Matrix<double, 6, 7>::Zero();
+  T.topLeftCorner<3, 4>() = pose_math::RotationPerturbationToQuat(q_pred).transpose();
+  T.bottomRightCorner<3, 3>().setIdentity();
+  const Eigen::Matrix<double, 6, 1> y6 = T * y;
+  const Eigen::Matrix<double, 6, 6> S6 = T * S * T.transpose();
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(S6);
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0)) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  return y6.dot(ldlt.solve(y6));
+}
 
 }  // namespace
 
@@ -41,6 +64,8 @@ void EkfCore::SetConfig(const EkfConfig& config) {
   const std::string err = config.Validate();
   if (!err.empty()) throw std::invalid_argument("pose_ekf config: " + err);
   config_ = config;
+  camera_gate_chi2_ =
+      config_.camera_gate_chi2 > 0.0 ? config_.camera_gate_chi2 : std::numeric_limits<double>::infinity();
   if (initialized_ && StateSize(config_) != s_.x.size()) {
     config_.estimate_gyro_bias = s_.x.size() > kBaseStates;  // takes effect at the next Initialize()
   }
@@ -145,7 +170,7 @@ UpdateResult EkfCore::Update(const Eigen::Matrix<double, M, 1>& residual,
   return UpdateResult::kApplied;
 }
 
-UpdateResult EkfCore::UpdateCamera(const CameraMeasurement& m, double* nis) {
+UpdateResult EkfCore::UpdateCamera(const CameraMeasurement& m, double* nis, double* gate_chi2) {
   if (!config_.use_camera) return UpdateResult::kDisabled;
   if (!PoseUsable(m)) return UpdateResult::kRejectedNonFinite;
   const int n = static_cast<int>(s_.x.size());
@@ -159,6 +184,16 @@ UpdateResult EkfCore::UpdateCamera(const CameraMeasurement& m, double* nis) {
   H.block<3, 3>(4, kP).setIdentity();
   Eigen::Matrix<double, 7, 7> R = m.cov;
   R.topLeftCorner<4, 4>() += kCameraRadialVariance * z_q * z_q.transpose();
+  if (gate_chi2 || std::isfinite(camera_gate_chi2_)) {
+    Eigen::Matrix<double, 7, 7> S = H * s_.P * H.transpose() + R;  // the S of (5.15)
+    S = 0.5 * (S + S.transpose()).eval();
+    const double d2 = CameraGateStatistic(y, S, q_pred);
+    if (gate_chi2) *gate_chi2 = d2;
+    if (std::isfinite(camera_gate_chi2_)) {
+      if (std::isnan(d2)) return UpdateResult::kNumericalFailure;
+      if (d2 > camera_gate_chi2_) return UpdateResult::kGated;
+    }
+  }
   return Update<7>(y, H, R, nis);
 }
 

@@ -32,6 +32,10 @@ const char* ToString(AddResult r) {
       return "rejected (non-finite)";
     case AddResult::kRejectedInvalid:
       return "rejected (invalid)";
+    case AddResult::kGated:
+      return "rejected (chi2 gate)";
+    case AddResult::kReinitialized:
+      return "re-initialised (chi2 gate)";
   }
   return "?";
 }
@@ -76,6 +80,7 @@ void MeasurementBuffer::Reset() {
   history_.clear();
   ekf_.Reset();
   last_camera_stamp_s_ = last_imu_stamp_s_ = -1e300;
+  camera_gated_in_a_row_ = 0;
   ++counters_.resets;
 }
 
@@ -129,12 +134,41 @@ AddResult MeasurementBuffer::Add(Entry e) {
     ekf_.Restore(i == 0 ? base_ : history_[i - 1].after);
     ++counters_.replays;
   }
+  UpdateResult camera = UpdateResult::kDisabled;
   for (size_t j = i; j < history_.size(); ++j) {
-    Apply(history_[j], j == i);  // re-applied measurements are not counted twice
+    const UpdateResult r = Apply(history_[j], j == i);  // re-applied measurements are not counted twice
+    if (j == i) camera = r;
     history_[j].after = ekf_.state();
   }
+  if (camera == UpdateResult::kApplied) camera_gated_in_a_row_ = 0;
+  if (camera == UpdateResult::kGated) {
+    ++camera_gated_in_a_row_;
+    if (config_.reinit_after_rejections > 0 && camera_gated_in_a_row_ >= config_.reinit_after_rejections) {
+      return ReinitializeFrom(i);
+    }
+  }
   Trim();
+  if (camera == UpdateResult::kGated) return AddResult::kGated;
   return at_end ? AddResult::kApplied : AddResult::kReplayed;
+}
+
+// The camera has disagreed with the filter reinit_after_rejections times in a
+// row: trust the camera. Like the first initialisation, the filter restarts
+// from this pose (and the initial sigmas of the rest); later measurements
+// already received are re-applied, older ones are forgotten.
+AddResult MeasurementBuffer::ReinitializeFrom(size_t i) {
+  const Entry camera = history_[i];
+  history_.erase(history_.begin(), history_.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+  ekf_.Initialize(camera.camera);  // usable: AddCamera checked it
+  base_ = ekf_.state();
+  for (Entry& e : history_) {
+    Apply(e, false);
+    e.after = ekf_.state();
+  }
+  camera_gated_in_a_row_ = 0;
+  ++counters_.reinits;
+  Trim();
+  return AddResult::kReinitialized;
 }
 
 AddResult MeasurementBuffer::InitializeFrom(const Entry& camera) {
@@ -143,6 +177,7 @@ AddResult MeasurementBuffer::InitializeFrom(const Entry& camera) {
     return AddResult::kRejectedNonFinite;
   }
   ++counters_.camera_applied;
+  camera_gated_in_a_row_ = 0;
   base_ = ekf_.state();
   // IMU samples that arrived before the (late) first camera pose and are newer than it are kept.
   while (!history_.empty() && history_.front().stamp_s < camera.stamp_s) {
@@ -157,11 +192,11 @@ AddResult MeasurementBuffer::InitializeFrom(const Entry& camera) {
   return AddResult::kInitialized;
 }
 
-void MeasurementBuffer::Apply(Entry& e, bool count) {
+UpdateResult MeasurementBuffer::Apply(Entry& e, bool count) {
   // With the gyro and accelerometer switched off an IMU sample carries nothing:
   // like the thesis's measurement-driven EKF, the pose then freezes between
   // camera frames instead of extrapolating the last angular rate (7.3 survey).
-  if (!e.is_camera && !config_.use_gyro && config_.accel_mode == AccelMode::kOff) return;
+  if (!e.is_camera && !config_.use_gyro && config_.accel_mode == AccelMode::kOff) return UpdateResult::kDisabled;
   // The gyro's rate over (previous stamp, e.stamp] drives the prediction over it.
   const bool gyro_first = !e.is_camera && config_.gyro_is_interval_mean;
   const UpdateResult gyro = gyro_first ? ekf_.UpdateGyro(e.imu) : UpdateResult::kDisabled;
@@ -174,18 +209,24 @@ void MeasurementBuffer::Apply(Entry& e, bool count) {
     if (r == UpdateResult::kNumericalFailure) ++counters_.numerical_failures;
   };
   if (e.is_camera) {
-    double nis = 0.0;
-    const UpdateResult r = ekf_.UpdateCamera(e.camera, &nis);
+    double nis = 0.0, gate_chi2 = 0.0;
+    const UpdateResult r = ekf_.UpdateCamera(e.camera, &nis, &gate_chi2);
+    if (count && r == UpdateResult::kGated) {
+      ++counters_.camera_gated;
+      counters_.camera_gate_last_rejected_chi2 = gate_chi2;
+      return r;
+    }
     tally(r, &counters_.camera_applied);
     if (count && r == UpdateResult::kApplied) {
       ++counters_.camera_nis_count;
       counters_.camera_nis_sum += nis;
       counters_.camera_nis_last = nis;
     }
-  } else {
-    tally(gyro_first ? gyro : ekf_.UpdateGyro(e.imu), &counters_.gyro_applied);
-    tally(ekf_.UpdateAccel(e.imu), &counters_.accel_applied);
+    return r;
   }
+  tally(gyro_first ? gyro : ekf_.UpdateGyro(e.imu), &counters_.gyro_applied);
+  tally(ekf_.UpdateAccel(e.imu), &counters_.accel_applied);
+  return UpdateResult::kDisabled;
 }
 
 // Keeps what a measurement up to max_delay_s late needs: the entries inside the

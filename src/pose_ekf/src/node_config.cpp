@@ -3,6 +3,7 @@
 #include <ros/node_handle.h>
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
 #include <stdexcept>
 
 #include "rig_model/ros/params.h"
@@ -158,6 +159,16 @@ NodeConfig LoadConfig(const ParamSource& nh) {
   e.quat_integration = ParseQuatIntegration(quat_integration);
   Get(nh, "gravity_m_s2", &e.gravity_m_s2);
   Get(nh, "accel_gate_m_s2", &e.accel_gate_m_s2);
+  Get(nh, "camera_gate_chi2", &e.camera_gate_chi2);
+  double reinit_after_rejections = e.reinit_after_rejections;  // an integer parameter, read as a number
+  Get(nh, "reinit_after_rejections", &reinit_after_rejections);
+  if (!(reinit_after_rejections >= 0.0 && reinit_after_rejections <= 1e6 &&
+        reinit_after_rejections == std::floor(reinit_after_rejections))) {
+    throw std::invalid_argument(
+        "reinit_after_rejections must be a whole number in [0, 1e6], 0 never re-initialises (got " +
+        std::to_string(reinit_after_rejections) + ")");
+  }
+  e.reinit_after_rejections = static_cast<int>(reinit_after_rejections);
   Get(nh, "estimate_gyro_bias", &e.estimate_gyro_bias);
   Get(nh, "joseph_update", &e.joseph_update);
   Get(nh, "init_sigma_omega_rad_s", &e.init_sigma_omega_rad_s);

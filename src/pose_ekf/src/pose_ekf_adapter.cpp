@@ -3,6 +3,7 @@
 #include <ros/time.h>
 
 #include <cmath>
+#include <sstream>
 
 #include "pose_math/covariance.h"
 #include "pose_math/rotation.h"
@@ -24,29 +25,41 @@ Eigen::Vector3d ToVector(const geometry_msgs::Vector3& v) { return {v.x, v.y, v.
 
 }  // namespace
 
+bool QuaternionFarFromUnit(const geometry_msgs::Quaternion& q) {
+  const double norm2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
+  return !(std::abs(norm2 - 1.0) <= kQuaternionNorm2Tolerance);
+}
+
 ConversionResult CameraFromMsg(const geometry_msgs::PoseWithCovarianceStamped& msg, const std::string& cones_frame,
                                CameraMeasurement* out, std::string* why) {
+  const std::string topic = kCameraTopic;
   if (msg.header.frame_id != cones_frame) {
-    *why = "camera pose in frame '" + msg.header.frame_id + "', expected '" + cones_frame + "'";
+    *why = topic + ": header.frame_id is '" + msg.header.frame_id + "', expected '" + cones_frame + "'";
     return ConversionResult::kInvalid;
   }
   const auto& p = msg.pose.pose;
   out->stamp_s = msg.header.stamp.toSec();
-  out->T_cones_camera.q = pose_math::Quat(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z);
+  const pose_math::Quat q(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z);
   out->T_cones_camera.t = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
   const Eigen::Matrix<double, 6, 6> cov6 = ToMatrix<6>(msg.pose.covariance);
-  if (!out->T_cones_camera.q.allFinite() || !out->T_cones_camera.t.allFinite() || !cov6.allFinite()) {
-    *why = "camera pose or covariance not finite";
+  const char* non_finite = !q.allFinite()                       ? "pose.pose.orientation"
+                           : !out->T_cones_camera.t.allFinite() ? "pose.pose.position"
+                           : !cov6.allFinite()                  ? "pose.covariance"
+                                                                : nullptr;
+  if (non_finite) {
+    *why = topic + ": " + non_finite + " is not finite";
     return ConversionResult::kNonFinite;
   }
-  if (out->T_cones_camera.q.norm() < 1e-6) {
-    *why = "camera orientation quaternion has zero norm";
+  const double norm = q.norm();
+  if (norm < 1e-6) {
+    *why = topic + ": pose.pose.orientation is zero (|q| = " + std::to_string(norm) + "), no rotation";
     return ConversionResult::kInvalid;
   }
   if (cov6.diagonal().minCoeff() <= 0.0) {
-    *why = "camera covariance has a non-positive diagonal entry";
+    *why = topic + ": pose.covariance has a non-positive diagonal entry";
     return ConversionResult::kInvalid;
   }
+  out->T_cones_camera.q = q / norm;  // any norm means a rotation; far from 1 is counted by the caller
   out->cov = pose_math::CovarianceThesisFromRos(out->T_cones_camera.q, cov6);  // the 5.6.4 form
   return ConversionResult::kOk;
 }
@@ -93,10 +106,26 @@ AddResult PoseEkfAdapter::Count(ConversionResult r) {
 AddResult PoseEkfAdapter::HandleCamera(const geometry_msgs::PoseWithCovarianceStamped& msg, std::string* why) {
   CameraMeasurement m;
   const ConversionResult c = CameraFromMsg(msg, config_.cones_frame, &m, why);
-  if (c != ConversionResult::kOk) return Count(c);
+  if (c != ConversionResult::kOk) {
+    ++camera_rejected_;
+    return Count(c);
+  }
+  if (QuaternionFarFromUnit(msg.pose.pose.orientation)) ++camera_quaternions_normalized_;
   const AddResult r = buffer_.AddCamera(m);
-  if (r == AddResult::kRejectedNonFinite) *why = "camera stamp not finite";
-  if (r == AddResult::kDroppedLate) *why = "camera measurement older than max_delay_s";
+  const std::string topic = kCameraTopic;
+  if (r == AddResult::kRejectedNonFinite) *why = topic + ": header.stamp not finite";
+  if (r == AddResult::kDroppedLate) *why = topic + ": camera pose older than max_delay_s";
+  if (r == AddResult::kGated || r == AddResult::kReinitialized) {
+    const BufferCounters& n = buffer_.counters();
+    std::ostringstream s;
+    s << topic << ": camera pose outside the chi-square gate (" << n.camera_gate_last_rejected_chi2 << " > "
+      << buffer_.filter().camera_gate_chi2() << ", " << EkfCore::kCameraGateDof << " dof)";
+    if (r == AddResult::kReinitialized) {
+      s << "; " << config_.ekf.reinit_after_rejections
+        << " in a row (reinit_after_rejections): the filter re-initialised from this pose";
+    }
+    *why = s.str();
+  }
   return r;
 }
 

@@ -98,6 +98,8 @@ void PoseEkfNodelet::onInit() {
   current.sigma_gyro_rad_s = e.sigma_gyro_rad_s;
   current.sigma_accel_m_s2 = e.sigma_accel_m_s2;
   current.accel_gate_m_s2 = e.accel_gate_m_s2;
+  current.camera_gate_chi2 = e.camera_gate_chi2;
+  current.reinit_after_rejections = e.reinit_after_rejections;
   current.use_camera = e.use_camera;
   current.use_gyro = e.use_gyro;
   current.use_accel = e.accel_mode != AccelMode::kOff;
@@ -120,6 +122,8 @@ void PoseEkfNodelet::OnReconfigure(PoseEkfConfig& cfg, uint32_t /*level*/) {
   e.sigma_gyro_rad_s = cfg.sigma_gyro_rad_s;
   e.sigma_accel_m_s2 = cfg.sigma_accel_m_s2;
   e.accel_gate_m_s2 = cfg.accel_gate_m_s2;
+  e.camera_gate_chi2 = cfg.camera_gate_chi2;
+  e.reinit_after_rejections = cfg.reinit_after_rejections;
   e.use_camera = cfg.use_camera;
   e.use_gyro = cfg.use_gyro;
   e.accel_mode = cfg.use_accel ? adapter_->config().accel_mode_when_on : AccelMode::kOff;
@@ -153,6 +157,7 @@ void PoseEkfNodelet::Report(AddResult r, const std::string& why, const char* wha
   if (r == AddResult::kRejectedNonFinite || r == AddResult::kRejectedInvalid || r == AddResult::kDroppedLate) {
     NODELET_WARN_THROTTLE(1.0, "pose_ekf: %s %s: %s", what, ToString(r), why.c_str());
   }
+  if (r == AddResult::kReinitialized) NODELET_WARN("pose_ekf: %s", why.c_str());  // once per re-initialisation
 }
 
 void PoseEkfNodelet::OnCamera(const geometry_msgs::PoseWithCovarianceStampedConstPtr& msg) {
@@ -163,7 +168,10 @@ void PoseEkfNodelet::OnCamera(const geometry_msgs::PoseWithCovarianceStampedCons
     const AddResult r = adapter_->HandleCamera(*msg, &why);
     Report(r, why, "camera pose");
     if (r == AddResult::kInitialized) NODELET_INFO("pose_ekf: initialised from the first camera pose");
-    if (r == AddResult::kInitialized || r == AddResult::kApplied || r == AddResult::kReplayed) Publish();
+    if (r == AddResult::kInitialized || r == AddResult::kReinitialized || r == AddResult::kApplied ||
+        r == AddResult::kReplayed) {
+      Publish();
+    }
   } catch (const std::exception& e) {
     NODELET_WARN_THROTTLE(1.0, "pose_ekf: camera callback failed: %s", e.what());
   }
@@ -243,6 +251,9 @@ void PoseEkfNodelet::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   const BufferCounters& c = adapter_->buffer().counters();
   if (!adapter_->buffer().filter().initialized()) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "waiting for the first camera pose");
+  } else if (adapter_->buffer().camera_gated_in_a_row() > 0) {
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "tracking; the last %d camera poses failed the chi2 gate",
+                  adapter_->buffer().camera_gated_in_a_row());
   } else {
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "tracking");
   }
@@ -250,6 +261,12 @@ void PoseEkfNodelet::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   stat.add("gyro updates", c.gyro_applied);
   stat.add("accel updates", c.accel_applied);
   stat.add("accel gated (|a| != g)", c.accel_gated);
+  stat.add("camera poses rejected (chi2 gate)", c.camera_gated);
+  stat.add("camera chi2 gate threshold (6 dof)", adapter_->buffer().filter().camera_gate_chi2());
+  stat.add("camera chi2 of the last rejected pose", c.camera_gate_last_rejected_chi2);
+  stat.add("re-initialisations (chi2 gate)", c.reinits);
+  stat.add("camera poses rejected (bad quaternion, position, covariance or frame)", adapter_->camera_rejected());
+  stat.add("camera quaternions normalised (| |q|^2 - 1 | > 0.01)", adapter_->camera_quaternions_normalized());
   stat.add("dropped late", c.dropped_late);
   stat.add("IMU before the first pose", c.imu_before_start);
   stat.add("NaN rejected", c.nan_rejected + adapter_->nan_rejected());

@@ -104,7 +104,12 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
   log << "ekf_replay: " << summary.camera_messages << " camera poses, " << summary.imu_messages << " IMU samples, "
       << summary.poses_written << " poses written" << (summary.orientation_only ? " (orientation-only)" : "")
       << "; dropped late " << c.dropped_late << ", NaN rejected " << c.nan_rejected + adapter.nan_rejected()
-      << ", invalid " << adapter.invalid_rejected() << ", resets " << c.resets << "\n";
+      << ", invalid " << adapter.invalid_rejected() << ", resets " << c.resets << "; camera poses rejected (chi2 gate) "
+      << c.camera_gated << " (threshold " << adapter.buffer().filter().camera_gate_chi2() << ", last rejected "
+      << c.camera_gate_last_rejected_chi2 << "), re-initialisations " << c.reinits << ", camera NIS mean "
+      << (c.camera_nis_count ? c.camera_nis_sum / c.camera_nis_count : 0.0) << "\n";
+  summary.camera_gated = c.camera_gated;
+  summary.reinits = c.reinits;
   return summary;
 }
 

@@ -53,6 +53,8 @@ RunStats RunFilter(const pose_ekf::EkfConfig& config, const std::vector<Event>& 
     if (in_window && !in_window(e.stamp_s)) continue;
     acc.Add(e.truth, buffer.filter().Pose(), true);
   }
+  acc.s.camera_gated = buffer.counters().camera_gated;
+  acc.s.reinits = buffer.counters().reinits;
   return acc.Finish();
 }
 

@@ -69,7 +69,8 @@ struct RunStats {
   double fraction_within_3_sigma = 0.0;  // per axis of the 6 pose errors
   double mean_nees = 0.0;
   int samples = 0;
-  std::vector<double> nees;  // one per evaluated sample
+  std::vector<double> nees;                // one per evaluated sample
+  uint64_t camera_gated = 0, reinits = 0;  // the chi-square gate on camera poses, over the whole run
 };
 
 // Feeds events to a MeasurementBuffer in the given order and evaluates against

@@ -21,9 +21,11 @@ pose_ekf::EkfConfig SimConfig() {
 
 void Print(const char* name, const RunStats& s) {
   std::printf(
-      "[ accuracy ] %-28s rot RMS %.3f deg (max %.3f), pos RMS %.2f mm, 3-sigma %.1f %%, mean NEES %.2f, n=%d\n", name,
-      s.rms_rotation_rad * kRadToDeg, s.max_rotation_rad * kRadToDeg, s.rms_position_m * 1e3,
-      100.0 * s.fraction_within_3_sigma, s.mean_nees, s.samples);
+      "[ accuracy ] %-28s rot RMS %.3f deg (max %.3f), pos RMS %.2f mm, 3-sigma %.1f %%, mean NEES %.2f, n=%d, "
+      "camera gated %llu, re-init %llu\n",
+      name, s.rms_rotation_rad * kRadToDeg, s.max_rotation_rad * kRadToDeg, s.rms_position_m * 1e3,
+      100.0 * s.fraction_within_3_sigma, s.mean_nees, s.samples, static_cast<unsigned long long>(s.camera_gated),
+      static_cast<unsigned long long>(s.reinits));
 }
 
 TEST(Accuracy, BeatsTheRawCameraWithCamerasVisible) {
@@ -61,6 +63,7 @@ TEST(Consistency, AverageNeesInsideTheChiSquareInterval) {
   std::vector<double> sum_nees;
   double total = 0.0;
   int count = 0;
+  uint64_t gated = 0, reinits = 0;
   for (int run = 0; run < kRuns; ++run) {
     RigSimConfig sim;
     sim.motion = RigSimConfig::Motion::kProcessModel;
@@ -72,13 +75,18 @@ TEST(Consistency, AverageNeesInsideTheChiSquareInterval) {
     for (size_t k = 0; k < s.nees.size(); ++k) sum_nees[k] += s.nees[k];
     total += s.mean_nees * s.samples;
     count += s.samples;
+    gated += s.camera_gated;
+    reinits += s.reinits;
   }
   const double lo = ChiSquareQuantile(6.0 * kRuns, 0.025) / kRuns, hi = ChiSquareQuantile(6.0 * kRuns, 0.975) / kRuns;
   int inside = 0;
   for (double sum : sum_nees) inside += sum / kRuns >= lo && sum / kRuns <= hi;
   const double fraction = static_cast<double>(inside) / sum_nees.size();
-  std::printf("[ accuracy ] NEES over %d runs: mean %.2f (6 expected), %.1f %% of steps in [%.2f, %.2f]\n", kRuns,
-              total / count, 100.0 * fraction, lo, hi);
+  std::printf(
+      "[ accuracy ] NEES over %d runs: mean %.2f (6 expected), %.1f %% of steps in [%.2f, %.2f], camera poses gated "
+      "%llu, re-init %llu\n",
+      kRuns, total / count, 100.0 * fraction, lo, hi, static_cast<unsigned long long>(gated),
+      static_cast<unsigned long long>(reinits));
   EXPECT_GT(total / count, lo);
   EXPECT_LT(total / count, hi);
   EXPECT_GE(fraction, 0.90);

@@ -141,6 +141,7 @@ struct Accumulated {
   std::vector<double> sum_nees;  // per evaluated IMU step, over the runs
   double sum_rot2 = 0.0, sum_pos2 = 0.0;
   int samples = 0;
+  uint64_t camera_gated = 0, reinits = 0;
 };
 
 // Bar-Shalom's NEES test over kRuns handheld sequences (different seeds, so
@@ -165,6 +166,8 @@ TEST(RigSim, AverageNeesInsideTheChiSquareInterval) {
     acc.sum_rot2 += r.rms_rotation_rad * r.rms_rotation_rad * r.samples;
     acc.sum_pos2 += r.rms_position_m * r.rms_position_m * r.samples;
     acc.samples += r.samples;
+    acc.camera_gated += r.camera_gated;
+    acc.reinits += r.reinits;
   }
   const double lo = ChiSquareQuantile(6.0 * kRuns, 0.025) / kRuns, hi = ChiSquareQuantile(6.0 * kRuns, 0.975) / kRuns;
   double total = 0.0;
@@ -180,7 +183,8 @@ TEST(RigSim, AverageNeesInsideTheChiSquareInterval) {
             << acc.sum_nees.size() << " steps inside\n";
   std::cout << "[ rig_sim ] cones visible (handheld, " << kRuns << " runs): orientation RMS "
             << std::sqrt(acc.sum_rot2 / acc.samples) * kRadToDeg << " deg, position RMS "
-            << std::sqrt(acc.sum_pos2 / acc.samples) * 1e3 << " mm\n";
+            << std::sqrt(acc.sum_pos2 / acc.samples) * 1e3 << " mm; camera poses gated " << acc.camera_gated
+            << ", re-initialisations " << acc.reinits << "\n";
   EXPECT_GT(mean, lo);
   EXPECT_LT(mean, hi);
   // Per step the run average is not held to the interval: it varies along the
@@ -233,7 +237,8 @@ TEST(RigSim, LookAwayWithGyrosKeepsTheOrientation) {
                 << ": cones visible: orientation RMS " << vis.rms_rotation_rad * kRadToDeg << " deg, position RMS "
                 << vis.rms_position_m * 1e3 << " mm; cones out of view " << o.end_s - o.start_s
                 << " s, gyros on: orientation RMS " << out.rms_rotation_rad * kRadToDeg << " deg (max "
-                << out.max_rotation_rad * kRadToDeg << "), position RMS " << out.rms_position_m * 1e3 << " mm\n";
+                << out.max_rotation_rad * kRadToDeg << "), position RMS " << out.rms_position_m * 1e3
+                << " mm; camera poses gated " << out.camera_gated << ", re-initialisations " << out.reinits << "\n";
       EXPECT_LE(out.max_rotation_rad * kRadToDeg, fast ? 3.0 : 1.0) << "seed " << seed;
       EXPECT_LT(vis.rms_rotation_rad * kRadToDeg, 0.15) << "seed " << seed;
       EXPECT_GT(out.samples, 190) << "seed " << seed;

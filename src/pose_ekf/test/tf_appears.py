@@ -90,6 +90,8 @@ class TfAppears(unittest.TestCase):
             rospy.sleep(0.1)
         self.assertIsNotNone(filter_status, "no pose_ekf filter diagnostics; got %s" % list(self.diagnostics))
         self.assertGreater(int(filter_status["camera updates"]), 10)
+        self.assertEqual(filter_status["camera poses rejected (chi2 gate)"], "0")  # good poses pass the gate
+        self.assertEqual(filter_status["re-initialisations (chi2 gate)"], "0")
         self.assertEqual(int(filter_status["NaN rejected"]), 0)
 
     def test_reconfigure_switches_and_noise(self):

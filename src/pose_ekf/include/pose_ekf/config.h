@@ -46,6 +46,18 @@ struct EkfConfig {
   // (test_rig_sim does that). Measured in test_broad and the README.
   bool gyro_is_interval_mean = false;
 
+  // Camera gate, beyond the thesis (its vision thread gates in image space,
+  // 6.4.1): a camera pose whose squared Mahalanobis distance under the filter's
+  // own S = H P Hᵀ + R, on the pose's 6 dof (chi-square distributed for a
+  // consistent filter), exceeds this is not fused. 0 disables it. A gross-error
+  // gate: the chi2(6) quantile at 0.9999 is 27.9, but good poses reach 100-300
+  // against the filter in its thesis configurations (README).
+  double camera_gate_chi2 = 1000.0;
+  // This many gated camera poses in a row mean the filter, not the camera, is
+  // wrong: the filter re-initialises from the last of them, like its first
+  // initialisation. 0 never re-initialises.
+  int reinit_after_rejections = 15;  // 0.5 s at 30 Hz
+
   // Options beyond the thesis.
   QuatIntegration quat_integration = QuatIntegration::kFirstOrder;
   bool estimate_gyro_bias = false;  // three more states: z_gyro = omega + b (3.2.1)

@@ -47,10 +47,17 @@ class EkfCore {
 
   // Measurement updates (5.15) (5.16) (5.17) of the camera (5.24), gyro (5.27)
   // and accelerometer (5.30) at the current time. nis, if given, receives the
-  // normalised innovation squared yᵀ S⁻¹ y.
-  UpdateResult UpdateCamera(const CameraMeasurement& m, double* nis = nullptr);
+  // normalised innovation squared yᵀ S⁻¹ y. A camera pose outside the
+  // chi-square gate (EkfConfig::camera_gate_chi2) returns kGated and
+  // leaves the state alone; gate_chi2, if given, receives its statistic (the
+  // squared Mahalanobis distance on 6 dof, see CameraGateStatistic).
+  UpdateResult UpdateCamera(const CameraMeasurement& m, double* nis = nullptr, double* gate_chi2 = nullptr);
   UpdateResult UpdateGyro(const ImuMeasurement& m, double* nis = nullptr);
   UpdateResult UpdateAccel(const ImuMeasurement& m, double* nis = nullptr);
+
+  // The camera gate's threshold on the 6-dof statistic (infinite when off).
+  double camera_gate_chi2() const { return camera_gate_chi2_; }
+  static constexpr int kCameraGateDof = 6;  // 3 rotation + 3 position
 
   const FilterState& state() const { return s_; }
   void Restore(const FilterState& s) { s_ = s; }
@@ -70,6 +77,7 @@ class EkfCore {
   void InitializeUnmeasured(int n);
 
   EkfConfig config_;
+  double camera_gate_chi2_ = 0.0;  // config_.camera_gate_chi2, infinite when off
   FilterState s_;
   bool initialized_ = false;
 };

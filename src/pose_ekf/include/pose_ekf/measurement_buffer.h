@@ -22,13 +22,18 @@ enum class AddResult {
   kDroppedLate,        // older than max_delay_s behind the newest stamp (or before initialisation)
   kRejectedNonFinite,  // NaN/inf in the message
   kRejectedInvalid,    // refused by the adapter: wrong frame, bad covariance, no data
+  kGated,              // camera pose outside the chi-square gate: not fused
+  kReinitialized,      // reinit_after_rejections gated poses in a row: the filter restarted from this one
 };
 const char* ToString(AddResult r);
 
 struct BufferCounters {
   uint64_t camera_applied = 0, gyro_applied = 0, accel_applied = 0;
-  uint64_t accel_gated = 0;         // |a| far from g (5.34)
-  uint64_t dropped_late = 0;        // older than the buffer window
+  uint64_t accel_gated = 0;   // |a| far from g (5.34)
+  uint64_t camera_gated = 0;  // camera poses outside the chi-square gate (EkfConfig::camera_gate_chi2)
+  double camera_gate_last_rejected_chi2 = 0.0;  // the gate statistic of the last of them
+  uint64_t reinits = 0;                         // re-initialisations after reinit_after_rejections of them in a row
+  uint64_t dropped_late = 0;                    // older than the buffer window
   uint64_t imu_before_start = 0;    // IMU samples older than the first pose (waiting for the cones is normal)
   uint64_t nan_rejected = 0;        // non-finite values or stamps
   uint64_t numerical_failures = 0;  // innovation covariance not positive definite
@@ -54,6 +59,8 @@ class MeasurementBuffer {
   // True once after each reset caused by a time jump, so the caller warns once.
   bool TakeResetWarning();
   size_t history_size() const { return history_.size(); }
+  // Gated camera poses since the last fused one (reset by a re-initialisation).
+  int camera_gated_in_a_row() const { return camera_gated_in_a_row_; }
 
  private:
   struct Entry {
@@ -69,7 +76,9 @@ class MeasurementBuffer {
   AddResult Add(Entry e);
   bool DetectTimeJump(const Entry& e);
   AddResult InitializeFrom(const Entry& camera);
-  void Apply(Entry& e, bool count);
+  AddResult ReinitializeFrom(size_t i);
+  // Returns the camera update's result (kDisabled for an IMU sample).
+  UpdateResult Apply(Entry& e, bool count);
   void Trim();
 
   EkfConfig config_;
@@ -80,6 +89,7 @@ class MeasurementBuffer {
   uint64_t next_seq_ = 0;
   double last_camera_stamp_s_ = -1e300, last_imu_stamp_s_ = -1e300;
   bool reset_warning_ = false;
+  int camera_gated_in_a_row_ = 0;  // counted when first applied, in arrival order
 };
 
 }  // namespace pose_ekf

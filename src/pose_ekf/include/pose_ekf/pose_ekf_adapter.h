@@ -19,6 +19,14 @@ namespace pose_ekf {
 
 enum class ConversionResult { kOk, kNonFinite, kInvalid };
 
+// The nodelet's camera subscription (before remapping), named in the reasons a pose is refused.
+constexpr const char* kCameraTopic = "cone_tracker/pose";
+// A camera quaternion with | |q|² - 1 | above this is counted as far from unit
+// (tf2 refuses such a quaternion). Any non-zero finite quaternion is normalised
+// and used: the direction is the rotation, and the gate judges it.
+constexpr double kQuaternionNorm2Tolerance = 0.01;
+bool QuaternionFarFromUnit(const geometry_msgs::Quaternion& q);
+
 // Conversions. Anything but kOk comes with a reason in *why.
 ConversionResult CameraFromMsg(const geometry_msgs::PoseWithCovarianceStamped& msg, const std::string& cones_frame,
                                CameraMeasurement* out, std::string* why);
@@ -58,6 +66,11 @@ class PoseEkfAdapter {
   // values the conversion could not carry. Add to the buffer's counters for totals.
   uint64_t invalid_rejected() const { return invalid_rejected_; }
   uint64_t nan_rejected() const { return nan_rejected_; }
+  // Camera poses refused for a zero or non-finite quaternion, a non-finite
+  // position or covariance, a bad covariance diagonal or a wrong frame (part of
+  // the two above), and those whose quaternion was far from unit (normalised, used).
+  uint64_t camera_rejected() const { return camera_rejected_; }
+  uint64_t camera_quaternions_normalized() const { return camera_quaternions_normalized_; }
 
  private:
   bool FillOutputs(const EkfCore& filter, AdapterOutputs* out) const;
@@ -66,6 +79,7 @@ class PoseEkfAdapter {
   MeasurementBuffer buffer_;
   AddResult Count(ConversionResult r);
   uint64_t invalid_rejected_ = 0, nan_rejected_ = 0;
+  uint64_t camera_rejected_ = 0, camera_quaternions_normalized_ = 0;
 };
 
 }  // namespace pose_ekf

@@ -19,7 +19,8 @@ struct ReplayOptions {
 
 struct ReplaySummary {
   size_t camera_messages = 0, imu_messages = 0, poses_written = 0;
-  bool orientation_only = false;  // no camera messages: gyro + gravity updates
+  size_t camera_gated = 0, reinits = 0;  // the chi-square gate on camera poses
+  bool orientation_only = false;         // no camera messages: gyro + gravity updates
   std::string imu_rotation_source;
 };
 
