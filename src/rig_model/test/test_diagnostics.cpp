@@ -16,7 +16,7 @@ struct Report {
   std::map<std::string, std::string> values;
 };
 
-Report Run(StampRateTask& task) {
+Report Evaluate(StampRateTask& task) {
   diagnostic_updater::DiagnosticStatusWrapper stat;
   task.run(stat);
   Report r;
@@ -49,9 +49,9 @@ TEST(CleanReason, DropsEmptyClausesAndTrailingSeparators) {
 }
 
 TEST_F(RateTest, NoMessageYetWarnsThenGoesStale) {
-  EXPECT_EQ(Run(task_).level, DiagnosticStatus::WARN);
+  EXPECT_EQ(Evaluate(task_).level, DiagnosticStatus::WARN);
   wall_s_ += config_.stale_after_s + 0.5;
-  const Report r = Run(task_);
+  const Report r = Evaluate(task_);
   EXPECT_EQ(r.level, DiagnosticStatus::ERROR);
   EXPECT_NE(r.message.find("no message yet"), std::string::npos) << r.message;
 }
@@ -59,20 +59,20 @@ TEST_F(RateTest, NoMessageYetWarnsThenGoesStale) {
 TEST_F(RateTest, MeasuresTheRateOfStamps) {
   Feed(1.7e9, 300, 100.0);
   EXPECT_NEAR(task_.rate_hz(), 100.0, 1e-6);
-  const Report r = Run(task_);
+  const Report r = Evaluate(task_);
   EXPECT_EQ(r.level, DiagnosticStatus::OK) << r.message;
-  EXPECT_EQ(r.values["rate of stamps (Hz)"], "100.000");
+  EXPECT_EQ(r.values.at("rate of stamps (Hz)"), "100.000");
 }
 
 TEST_F(RateTest, PlaybackSpeedDoesNotChangeTheStampRate) {
   Feed(50.0, 200, 100.0, /*wall_per_stamp_s=*/0.25);  // rosbag play -r 4: stamps still 100 Hz apart
   EXPECT_NEAR(task_.rate_hz(), 100.0, 1e-6);
-  EXPECT_EQ(Run(task_).level, DiagnosticStatus::OK);
+  EXPECT_EQ(Evaluate(task_).level, DiagnosticStatus::OK);
 }
 
 TEST_F(RateTest, TooLowAndTooHigh) {
   Feed(10.0, 100, 50.0);
-  Report r = Run(task_);
+  Report r = Evaluate(task_);
   EXPECT_EQ(r.level, DiagnosticStatus::WARN);
   EXPECT_NE(r.message.find("too low"), std::string::npos) << r.message;
   StampRateTask fast("fast", config_, [this] { return wall_s_; });
@@ -94,9 +94,9 @@ TEST_F(RateTest, RecoversAfterAJumpBack) {
   Feed(992.0, 50, 100.0);  // bag loop: 8 s back
   EXPECT_EQ(task_.jumps_back(), 1u);
   EXPECT_NEAR(task_.rate_hz(), 100.0, 1e-6);  // only the new time line's stamps
-  const Report r = Run(task_);
+  const Report r = Evaluate(task_);
   EXPECT_EQ(r.level, DiagnosticStatus::OK) << r.message;
-  EXPECT_EQ(r.values["stamp jumps back"], "1");
+  EXPECT_EQ(r.values.at("stamp jumps back"), "1");
 }
 
 TEST_F(RateTest, SlightlyLateStampsAreNotAJump) {
@@ -124,17 +124,17 @@ TEST_F(RateTest, StaleWhenMessagesStopInWallTime) {
 TEST_F(RateTest, UnstampedMessagesAreCountedNotRated) {
   task_.Tick(ros::Time(0));
   task_.Tick(0.0);
-  const Report r = Run(task_);
+  const Report r = Evaluate(task_);
   EXPECT_EQ(r.level, DiagnosticStatus::WARN);
-  EXPECT_EQ(r.values["messages without a stamp"], "2");
-  EXPECT_EQ(r.values["rate measured"], "False");
+  EXPECT_EQ(r.values.at("messages without a stamp"), "2");
+  EXPECT_EQ(r.values.at("rate measured"), "False");
 }
 
 TEST_F(RateTest, OneMessageIsNotARate) {
   task_.Tick(5.0);
-  const Report r = Run(task_);
+  const Report r = Evaluate(task_);
   EXPECT_EQ(r.level, DiagnosticStatus::OK) << r.message;
-  EXPECT_EQ(r.values["rate measured"], "False");
+  EXPECT_EQ(r.values.at("rate measured"), "False");
 }
 
 }  // namespace
