@@ -43,13 +43,23 @@ class WallDiagnosticsTest : public ::testing::Test {
     }
     ASSERT_EQ(ros::Time::now(), c.clock) << "/clock did not reach the test's own time";
   }
-  // Spins until pred holds; at most `iterations` rounds of 10 ms.
-  bool SpinUntil(const std::function<bool()>& pred, int iterations = 6000) {
+  // Spins until pred holds; at most `iterations` rounds of 10 ms, each first calling `each`.
+  bool SpinUntil(const std::function<bool()>& pred, int iterations = 6000, const std::function<void()>& each = {}) {
     for (int i = 0; i < iterations && !pred(); ++i) {
+      if (each) each();
       ros::WallDuration(0.01).sleep();
       ros::spinOnce();
     }
     return pred();
+  }
+  // Sim time running on: +step_s per call.
+  std::function<void()> Advance(double* t_s, double step_s) {
+    return [this, t_s, step_s] {
+      *t_s += step_s;
+      rosgraph_msgs::Clock c;
+      c.clock = ros::Time(*t_s);
+      clock_pub_.publish(c);
+    };
   }
 };
 
@@ -62,12 +72,17 @@ TEST_F(WallDiagnosticsTest, KeepsPublishingAfterSimTimeJumpsBack) {
     s.summary(diagnostic_msgs::DiagnosticStatus::OK, "ok");
     s.add("ticks", ++ticks);
   });
-  ASSERT_TRUE(SpinUntil([&] { return listener_.count["looping: counter"] >= 3; }));
+  double t_s = 100.0;
+  ASSERT_TRUE(SpinUntil([&] { return listener_.count["looping: counter"] >= 3; }, 6000, Advance(&t_s, 0.01)));
 
-  SetClock(10.0);  // 90 s back; sim time then stands still
+  // 90 s back, then sim time runs on but stays below 100 s within the bound (1000 x 0.05 s): the
+  // Updater's own update() would publish nothing here, its deadline being past 100 s.
+  SetClock(10.0);
+  t_s = 10.0;
   const int before = listener_.count["looping: counter"];
-  EXPECT_TRUE(SpinUntil([&] { return listener_.count["looping: counter"] >= before + 5; }))
+  EXPECT_TRUE(SpinUntil([&] { return listener_.count["looping: counter"] >= before + 5; }, 1000, Advance(&t_s, 0.05)))
       << "no /diagnostics after the jump back: " << listener_.count["looping: counter"] - before;
+  EXPECT_LT(t_s, 100.0);
   EXPECT_EQ(listener_.last["looping: counter"].level, diagnostic_msgs::DiagnosticStatus::OK);
 }
 
@@ -83,6 +98,11 @@ TEST_F(WallDiagnosticsTest, RefusedConfigStaysAsErrorNamingTheParameter) {
   const std::string message =
       diagnostics.RefuseConfig("filter", "pose_ekf", "invalid parameter: sigma_gyro_rad_s must be > 0 (got -0.01); ");
   EXPECT_EQ(message, "pose_ekf not started: invalid parameter: sigma_gyro_rad_s must be > 0 (got -0.01)");
+  // The placeholders Updater::add() published before the refusal are in the queue ahead of it.
+  ASSERT_TRUE(SpinUntil([&] {
+    return listener_.last.count("refusing: filter") &&
+           listener_.last["refusing: filter"].level == diagnostic_msgs::DiagnosticStatus::ERROR;
+  }));
   listener_.count.clear();
   ASSERT_TRUE(SpinUntil([&] { return listener_.count["refusing: filter"] >= 3; }));
   const auto& s = listener_.last["refusing: filter"];
