@@ -46,8 +46,9 @@ class PoseEkfNodelet : public nodelet::Nodelet {
   std::unique_ptr<dynamic_reconfigure::Server<PoseEkfConfig>> reconfigure_;
   ros::Time last_now_;
   double last_published_stamp_s_ = -1.0;
-  uint64_t imu_without_tf_ = 0, imu_without_tf_reported_ = 0, time_jumps_back_ = 0;
-  std::string imu_tf_error_;  // why the last IMU sample had no camera-IMU rotation
+  uint64_t imu_without_tf_ = 0, imu_without_tf_reported_ = 0;
+  uint64_t time_jumps_back_ = 0;  // ROS time or a message stamp: each one reset the filter
+  std::string imu_tf_error_;      // why the last IMU sample had no camera-IMU rotation
 };
 
 void PoseEkfNodelet::onInit() {
@@ -147,6 +148,7 @@ void PoseEkfNodelet::CheckTimeJump() {
 void PoseEkfNodelet::Report(AddResult r, const std::string& why, const char* what) {
   if (adapter_->buffer().TakeResetWarning()) {
     NODELET_WARN("pose_ekf: %s stamp jumped back by more than time_jump_reset_s; filter reset", what);
+    ++time_jumps_back_;
     last_published_stamp_s_ = -1.0;
   }
   if (r == AddResult::kRejectedNonFinite || r == AddResult::kRejectedInvalid || r == AddResult::kDroppedLate) {
