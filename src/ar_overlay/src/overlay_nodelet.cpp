@@ -7,28 +7,53 @@
 // wake_). A slow render drops stale frames instead of queueing them (counted).
 #include <cv_bridge/cv_bridge.h>
 #include <diagnostic_updater/diagnostic_updater.h>
-#include <diagnostic_updater/publisher.h>
 #include <image_transport/image_transport.h>
 #include <nodelet/nodelet.h>
 #include <sensor_msgs/JointState.h>
+#include <sensor_msgs/image_encodings.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
 #include <atomic>
 #include <boost/make_shared.hpp>
+#include <cmath>
 #include <condition_variable>
+#include <map>
 #include <opencv2/highgui.hpp>
 #include <opencv2/imgproc.hpp>
 #include <pluginlib/class_list_macros.hpp>
+#include <set>
 #include <thread>
 
 #include "ar_overlay/composite.h"
 #include "ar_overlay/overlay.h"
 #include "ar_overlay/pose_extrapolation.h"
 #include "ar_overlay/ros_config.h"
+#include "rig_model/ros/diagnostics.h"
 
 namespace ar_overlay {
+namespace {
+
+// Why a frame cannot be drawn, as a short reason that diagnostics count by; "" when it can.
+std::string BadFrameReason(const sensor_msgs::Image& image, const sensor_msgs::CameraInfo& info, bool with_pose) {
+  namespace enc = sensor_msgs::image_encodings;
+  static const std::set<std::string> kSupported = {enc::RGB8,        enc::BGR8,        enc::RGBA8,
+                                                   enc::BGRA8,       enc::MONO8,       enc::BAYER_RGGB8,
+                                                   enc::BAYER_BGGR8, enc::BAYER_GBRG8, enc::BAYER_GRBG8};
+  if (!kSupported.count(image.encoding)) return "unsupported encoding '" + image.encoding + "'";
+  if (image.width == 0 || image.height == 0) return "empty image";
+  const size_t row = size_t(image.width) * size_t(enc::numChannels(image.encoding));
+  if (image.step < row || image.data.size() < size_t(image.step) * image.height)
+    return "image data shorter than height x step";
+  if (!with_pose) return "";
+  if (info.width != image.width || info.height != image.height) return "camera_info size differs from the image";
+  if (!(info.K[0] > 0.0 && info.K[4] > 0.0 && std::isfinite(info.K[2]) && std::isfinite(info.K[5])))
+    return "camera_info without a valid focal length";
+  return "";
+}
+
+}  // namespace
 
 class OverlayNodelet : public nodelet::Nodelet {
  public:
@@ -49,20 +74,23 @@ class OverlayNodelet : public nodelet::Nodelet {
   };
 
   void onInit() override {
+    diagnostics_ =
+        std::make_unique<rig_model::WallDiagnostics>(getNodeHandle(), getPrivateNodeHandle(), getName(), "ar_overlay");
     const std::string error = LoadConfig(getPrivateNodeHandle(), config_);
     if (!error.empty()) {
-      NODELET_FATAL("ar_overlay: bad parameter: %s; not starting", error.c_str());
+      NODELET_FATAL("%s", diagnostics_->RefuseConfig("overlay", "ar_overlay", "bad parameter: " + error).c_str());
       return;
     }
     tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
     tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_);
-    updater_ = std::make_unique<diagnostic_updater::Updater>(getNodeHandle(), getPrivateNodeHandle());
-    updater_->setHardwareID("ar_overlay");
-    updater_->add("overlay", this, &OverlayNodelet::Diagnose);
-    out_freq_ = std::make_unique<diagnostic_updater::HeaderlessTopicDiagnostic>(
-        "image", *updater_, diagnostic_updater::FrequencyStatusParam(&min_hz_, &max_hz_));
-    diag_timer_ =
-        getNodeHandle().createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) { updater_->update(); });
+    diagnostics_->Add("overlay", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { Diagnose(s); });
+    in_freq_ = std::make_unique<rig_model::StampRateTask>("camera input", rig_model::RateCheckConfig{});
+    rig_model::RateCheckConfig out_rate;
+    out_rate.min_hz = 1.0, out_rate.max_hz = 1000.0;
+    out_rate.stale_level = diagnostic_msgs::DiagnosticStatus::WARN;  // the input's own check says why
+    out_freq_ = std::make_unique<rig_model::StampRateTask>("image", out_rate);
+    diagnostics_->Add(*in_freq_);
+    diagnostics_->Add(*out_freq_);
     render_thread_ = std::thread(&OverlayNodelet::RenderLoop, this);  // joined in the destructor
     it_ = std::make_unique<image_transport::ImageTransport>(getNodeHandle());
     pub_ = image_transport::ImageTransport(getPrivateNodeHandle()).advertise("image", 1);
@@ -71,6 +99,7 @@ class OverlayNodelet : public nodelet::Nodelet {
   }
 
   void OnCamera(const sensor_msgs::ImageConstPtr& image, const sensor_msgs::CameraInfoConstPtr& info) {
+    in_freq_->Tick(image->header.stamp);
     {
       std::lock_guard<std::mutex> lock(mutex_);
       latest_ = Frame{image, info, latest_.seq + 1};
@@ -142,7 +171,7 @@ class OverlayNodelet : public nodelet::Nodelet {
       try {
         RenderOne(overlay.get(), f, window);
       } catch (const std::exception& e) {  // never let the render thread die (it would take the manager)
-        ++bad_input_;
+        CountBadFrame(std::string("render failed: ") + e.what());
         NODELET_ERROR_THROTTLE(5.0, "ar_overlay: frame failed: %s", e.what());
       }
     }
@@ -185,6 +214,12 @@ class OverlayNodelet : public nodelet::Nodelet {
     Eigen::Isometry3d T_camera_cones;
     const bool have_pose = overlay != nullptr && LookupPose(f, stamp, T_camera_cones);
     if (!have_pose) stamp = f.image->header.stamp;
+    const std::string bad = BadFrameReason(*f.image, *f.info, have_pose);
+    if (!bad.empty()) {
+      CountBadFrame(bad);
+      NODELET_WARN_THROTTLE(5.0, "ar_overlay: frame skipped: %s (camera/image_raw)", bad.c_str());
+      return;
+    }
     // The output message's own memory is the composite's canvas: no copy on publish.
     auto out = boost::make_shared<sensor_msgs::Image>();
     out->header = f.image->header;
@@ -203,7 +238,7 @@ class OverlayNodelet : public nodelet::Nodelet {
         ToColor(image, f.image->encoding, canvas, out->encoding);
       if (canvas.data != out->data.data()) throw std::logic_error("composite did not write into the message");
     } catch (const std::exception& e) {
-      ++bad_input_;
+      CountBadFrame(e.what());
       NODELET_WARN_THROTTLE(5.0, "ar_overlay: frame skipped: %s", e.what());
       return;
     }
@@ -220,31 +255,52 @@ class OverlayNodelet : public nodelet::Nodelet {
       cv::imshow(config_.window_name, shown.empty() ? canvas : shown);
       cv::waitKey(1);
     }
+    out_freq_->Tick(stamp);
     pub_.publish(out);  // not touched after this
-    out_freq_->tick();
+  }
+
+  // Counted by reason; reasons past the first kMaxReasons share one bucket so the map stays small.
+  void CountBadFrame(const std::string& reason) {
+    static constexpr size_t kMaxReasons = 16;
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++bad_input_;
+    if (bad_frames_.count(reason) || bad_frames_.size() < kMaxReasons)
+      ++bad_frames_[reason];
+    else
+      ++bad_frames_["other reasons"];
+    last_bad_reason_ = reason;
   }
 
   void Diagnose(diagnostic_updater::DiagnosticStatusWrapper& s) {
     std::lock_guard<std::mutex> lock(mutex_);
     const uint64_t rendered = rendered_, without = without_pose_;
+    std::string models_not_loaded;
+    for (const std::string& e : model_errors_) models_not_loaded += (models_not_loaded.empty() ? "" : "; ") + e;
+    const uint64_t bad = bad_input_;
     if (!init_error_.empty())
       s.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "no renderer: " + init_error_);
+    else if (bad > last_bad_input_)
+      s.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "%lu bad frame(s) skipped since the last report, last: %s",
+                 static_cast<unsigned long>(bad - last_bad_input_), last_bad_reason_.c_str());
     else if (without > last_without_pose_)
       s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "frames without a pose");
     else if (!model_errors_.empty())
-      s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "some models did not load");
+      s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "some models did not load: " + models_not_loaded);
     else
       s.summary(diagnostic_msgs::DiagnosticStatus::OK, "rendering");
     last_without_pose_ = without;
+    last_bad_input_ = bad;
     s.add("frames rendered", rendered);
     s.add("frames without pose", without);
-    s.add("frames skipped (bad input)", bad_input_.load());
+    s.add("frames skipped (bad input)", bad);
+    for (const auto& [reason, n] : bad_frames_) s.add("frames skipped: " + reason, n);
     s.add("frames dropped (render slower than camera)", dropped_.load());
     s.add("render+composite mean ms", rendered ? render_ms_sum_.load() / rendered : 0.0);
     s.add("render+composite max ms", render_ms_max_.load());
     s.add("triangles drawn (last frame, after the level of detail)", triangles_drawn_.load());
     s.add("GL renderer", gl_renderer_);
-    for (const std::string& e : model_errors_) s.add("model not loaded", e);
+    s.add("models not loaded", model_errors_.size());
+    if (!model_errors_.empty()) s.add("model not loaded", models_not_loaded);  // every one, with its reason
   }
 
   OverlayConfig config_;
@@ -254,10 +310,8 @@ class OverlayNodelet : public nodelet::Nodelet {
   image_transport::CameraSubscriber camera_sub_;
   image_transport::Publisher pub_;
   ros::Subscriber joints_sub_;
-  ros::Timer diag_timer_;
-  std::unique_ptr<diagnostic_updater::Updater> updater_;
-  double min_hz_ = 1.0, max_hz_ = 1000.0;
-  std::unique_ptr<diagnostic_updater::HeaderlessTopicDiagnostic> out_freq_;
+  std::unique_ptr<rig_model::WallDiagnostics> diagnostics_;
+  std::unique_ptr<rig_model::StampRateTask> in_freq_, out_freq_;  // thread-safe ticks
 
   // Shared between the callbacks, the render thread and diagnostics.
   std::mutex mutex_;
@@ -267,7 +321,9 @@ class OverlayNodelet : public nodelet::Nodelet {
   bool stop_ = false;
   std::vector<std::string> model_errors_;
   std::string init_error_, gl_renderer_;
-  uint64_t last_without_pose_ = 0;
+  uint64_t last_without_pose_ = 0, last_bad_input_ = 0;
+  std::map<std::string, uint64_t> bad_frames_;  // by reason
+  std::string last_bad_reason_;
   std::thread render_thread_;
 
   std::atomic<uint64_t> rendered_{0}, without_pose_{0}, bad_input_{0}, dropped_{0}, triangles_drawn_{0};

@@ -92,6 +92,37 @@ class OverlayNodeletTest(unittest.TestCase):
         self.assertEqual(diag["frames without pose"], without)
         self.assertGreaterEqual(int(diag["frames rendered"]), rendered + 10)
 
+    def test_bad_frames_counted_by_reason(self):
+        short = "frames skipped: image data shorter than height x step"
+        encoding = "frames skipped: unsupported encoding '32FC1'"
+        rate = rospy.Rate(10)
+        for _ in range(600):  # a bound on attempts, not a timing assertion
+            if rospy.is_shutdown():
+                break
+            stamp = rospy.Time.now()
+            info = CameraInfo(height=H, width=W, distortion_model="plumb_bob", D=[0.0] * 5,
+                              K=[500, 0, 319.5, 0, 500, 239.5, 0, 0, 1])
+            info.header.stamp, info.header.frame_id = stamp, "camera_optical"
+            bad = Image(height=H, width=W, encoding="rgb8", step=3 * W, data=bytes([GREY]) * (3 * W))  # one row
+            bad.header = info.header
+            self.image_pub.publish(bad)
+            self.info_pub.publish(info)
+            rate.sleep()
+            info.header.stamp = stamp = rospy.Time.now()
+            odd = Image(height=H, width=W, encoding="32FC1", step=4 * W, data=bytes(4 * W * H))
+            odd.header = info.header
+            self.image_pub.publish(odd)
+            self.info_pub.publish(info)
+            rate.sleep()
+            with self.lock:
+                diag = self.diag
+            if diag and int(diag.get(short, 0)) > 0 and int(diag.get(encoding, 0)) > 0:
+                break
+        self.assertIsNotNone(diag, "no diagnostics")
+        self.assertGreater(int(diag.get(short, 0)), 0, diag)
+        self.assertGreater(int(diag.get(encoding, 0)), 0, diag)
+        self.assertGreaterEqual(int(diag["frames skipped (bad input)"]), int(diag[short]) + int(diag[encoding]))
+
 
 if __name__ == "__main__":
     rospy.init_node("test_overlay_nodelet")

@@ -3,7 +3,6 @@
 // manager. The camera is opened on CameraDevice's thread, so onInit never blocks.
 #include <camera_info_manager/camera_info_manager.h>
 #include <diagnostic_updater/diagnostic_updater.h>
-#include <diagnostic_updater/update_functions.h>
 #include <dynamic_reconfigure/server.h>
 #include <image_transport/image_transport.h>
 #include <nodelet/nodelet.h>
@@ -15,6 +14,7 @@
 #include "aravis_camera/CameraLiveConfig.h"
 #include "aravis_camera/camera_device.h"
 #include "aravis_camera/ros_config.h"
+#include "rig_model/ros/diagnostics.h"
 
 namespace aravis_camera {
 
@@ -27,16 +27,13 @@ class CameraNodelet : public nodelet::Nodelet {
  private:
   void onInit() override {
     ros::NodeHandle& pnh = getPrivateNodeHandle();
-    diagnostics_ = std::make_unique<diagnostic_updater::Updater>(getNodeHandle(), pnh, getName());
-    diagnostics_->setHardwareID("aravis_camera");
-    diagnostics_->add("camera", this, &CameraNodelet::Diagnose);
-    diag_timer_ =
-        pnh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { diagnostics_->update(); });
+    diagnostics_ = std::make_unique<rig_model::WallDiagnostics>(getNodeHandle(), pnh, getName(), "aravis_camera");
+    diagnostics_->Add("camera", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { Diagnose(s); });
     try {
       config_ = LoadConfig(pnh);
     } catch (const std::exception& e) {
-      config_error_ = e.what();
-      NODELET_ERROR("%s; the camera is not started", e.what());
+      config_error_ = diagnostics_->RefuseConfig("camera", "aravis_camera", e.what());
+      NODELET_ERROR("%s", config_error_.c_str());
       return;
     }
     ros::NodeHandle camera_nh(getNodeHandle(), "camera");
@@ -49,10 +46,9 @@ class CameraNodelet : public nodelet::Nodelet {
     image_transport::ImageTransport it(camera_nh);
     publisher_ = it.advertiseCamera("image_raw", 1);
 
-    min_hz_ = max_hz_ = config_.frame_rate_hz;
-    frequency_ = std::make_unique<diagnostic_updater::FrequencyStatus>(
-        diagnostic_updater::FrequencyStatusParam(&min_hz_, &max_hz_, 0.1, 10));
-    diagnostics_->add(*frequency_);
+    frequency_ = std::make_unique<rig_model::StampRateTask>(
+        "frame rate", rig_model::RateCheckConfig::Around(config_.frame_rate_hz, kRateTolerance));
+    diagnostics_->Add(*frequency_);
 
     device_ = std::make_unique<CameraDevice>(
         config_, [this](const sensor_msgs::ImagePtr& image, const FrameInfo&) { Publish(image); },
@@ -60,7 +56,7 @@ class CameraNodelet : public nodelet::Nodelet {
 
     reconfigure_ = std::make_unique<dynamic_reconfigure::Server<CameraLiveConfig>>(pnh);
     reconfigure_->setCallback([this](CameraLiveConfig& c, uint32_t) {
-      min_hz_ = max_hz_ = c.frame_rate;
+      frequency_->SetRateLimits(c.frame_rate * (1.0 - kRateTolerance), c.frame_rate * (1.0 + kRateTolerance));
       device_->UpdateSettings(LiveSettings{c.frame_rate, c.exposure_auto, c.exposure, c.gain});
     });
     device_->Start();
@@ -74,7 +70,7 @@ class CameraNodelet : public nodelet::Nodelet {
                             info->height, image->width, image->height);
     }
     info->header = image->header;
-    frequency_->tick();
+    frequency_->Tick(image->header.stamp);
     publisher_.publish(image, info);  // image is never touched again here
   }
 
@@ -121,10 +117,9 @@ class CameraNodelet : public nodelet::Nodelet {
   std::string config_error_;
   std::shared_ptr<camera_info_manager::CameraInfoManager> cinfo_;
   image_transport::CameraPublisher publisher_;
-  std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
-  std::unique_ptr<diagnostic_updater::FrequencyStatus> frequency_;
-  double min_hz_ = 30.0, max_hz_ = 30.0;
-  ros::WallTimer diag_timer_;
+  static constexpr double kRateTolerance = 0.1;
+  std::unique_ptr<rig_model::WallDiagnostics> diagnostics_;
+  std::unique_ptr<rig_model::StampRateTask> frequency_;
   std::unique_ptr<dynamic_reconfigure::Server<CameraLiveConfig>> reconfigure_;
   std::atomic<uint64_t> calibration_mismatches_{0};
   std::unique_ptr<CameraDevice> device_;  // last: destroyed (and joined) first

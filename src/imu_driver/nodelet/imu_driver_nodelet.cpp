@@ -2,7 +2,6 @@
 // The port is read on the SerialReader's thread (onInit never blocks); samples
 // are published from that thread (ros::Publisher is thread-safe).
 #include <diagnostic_updater/diagnostic_updater.h>
-#include <diagnostic_updater/publisher.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
@@ -17,6 +16,7 @@
 #include "imu_driver/ros_adapter.h"
 #include "imu_driver/serial_reader.h"
 #include "imu_driver_diagnostics.h"
+#include "rig_model/ros/diagnostics.h"
 
 namespace imu_driver {
 
@@ -25,7 +25,7 @@ class ImuDriverNodelet : public nodelet::Nodelet {
   ~ImuDriverNodelet() override {
     // Callbacks that use reader_ and the publishers stop first: the timer and
     // service (stop() waits for a running callback), then the I/O thread (joined).
-    diag_timer_.stop();
+    diagnostics_.reset();
     calibrate_srv_.shutdown();
     if (reader_) reader_->Stop();
   }
@@ -34,10 +34,11 @@ class ImuDriverNodelet : public nodelet::Nodelet {
   void onInit() override {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
+    diagnostics_ = std::make_unique<rig_model::WallDiagnostics>(nh, pnh, getName(), "crista", 0.25);
     try {
       config_ = LoadConfig(pnh);
     } catch (const std::exception& e) {
-      NODELET_FATAL("imu_driver not started: %s", e.what());
+      NODELET_FATAL("%s", diagnostics_->RefuseConfig("Crista IMU", "imu_driver", e.what()).c_str());
       return;
     }
     calibration_ = std::make_unique<CalibrationSession>(
@@ -47,19 +48,15 @@ class ImuDriverNodelet : public nodelet::Nodelet {
     PublishCalibrated();
     calibrate_srv_ = nh.advertiseService("imu/calibrate", &ImuDriverNodelet::OnCalibrate, this);
 
-    updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh);
-    updater_->setHardwareID("crista:" + config_.reader.port);
-    const double rate = config_.reader.stream.rate_hz;
-    min_rate_ = rate * (1.0 - config_.rate_tolerance);
-    max_rate_ = rate * (1.0 + config_.rate_tolerance);
-    rate_diag_ = std::make_unique<diagnostic_updater::FrequencyStatus>(
-        diagnostic_updater::FrequencyStatusParam(&min_rate_, &max_rate_, 0.0, 5), "imu/data_raw rate");
-    updater_->add(*rate_diag_);
-    updater_->add("Crista IMU", [this](diagnostic_updater::DiagnosticStatusWrapper& s) {
-      diagnostics_.Fill(reader_->status(), config_, calibration_->current(), ros::Time::now().toSec(), &s);
+    diagnostics_->SetHardwareID("crista:" + config_.reader.port);
+    rig_model::RateCheckConfig rate =
+        rig_model::RateCheckConfig::Around(config_.reader.stream.rate_hz, config_.rate_tolerance);
+    rate.stale_after_s = config_.stale_after_s;
+    rate_diag_ = std::make_unique<rig_model::StampRateTask>("imu/data_raw rate", rate);
+    diagnostics_->Add(*rate_diag_);
+    diagnostics_->Add("Crista IMU", [this](diagnostic_updater::DiagnosticStatusWrapper& s) {
+      driver_diagnostics_.Fill(reader_->status(), config_, calibration_->current(), ros::Time::now().toSec(), &s);
     });
-    diag_timer_ =
-        nh.createWallTimer(ros::WallDuration(0.25), [this](const ros::WallTimerEvent&) { updater_->update(); });
 
     reader_ = std::make_unique<SerialReader>(
         config_.reader, [] { return ros::Time::now().toSec(); }, [this](const ImuSample& s) { OnSample(s); },
@@ -76,8 +73,8 @@ class ImuDriverNodelet : public nodelet::Nodelet {
     if (const auto result = calibration_->Add(s)) OnCalibrationDone(*result);
     auto msg = boost::make_shared<sensor_msgs::Imu>();
     FillImuMessage(s, config_, calibration_->current(), msg.get());
+    rate_diag_->Tick(msg->header.stamp);
     imu_pub_.publish(msg);
-    rate_diag_->tick();
   }
 
   bool OnCalibrate(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
@@ -119,11 +116,9 @@ class ImuDriverNodelet : public nodelet::Nodelet {
   std::unique_ptr<CalibrationSession> calibration_;
   ros::Publisher imu_pub_, calibrated_pub_;
   ros::ServiceServer calibrate_srv_;
-  std::unique_ptr<diagnostic_updater::Updater> updater_;
-  double min_rate_ = 0.0, max_rate_ = 0.0;
-  std::unique_ptr<diagnostic_updater::FrequencyStatus> rate_diag_;
-  DriverDiagnostics diagnostics_;
-  ros::WallTimer diag_timer_;
+  std::unique_ptr<rig_model::StampRateTask> rate_diag_;
+  DriverDiagnostics driver_diagnostics_;
+  std::unique_ptr<rig_model::WallDiagnostics> diagnostics_;
   std::unique_ptr<SerialReader> reader_;  // last: destroyed first, after Stop()
 };
 

@@ -2,7 +2,6 @@
 // dynamic_reconfigure around PoseEkfAdapter. All callbacks run on the
 // nodelet's single-threaded queue, so no locking.
 #include <diagnostic_updater/diagnostic_updater.h>
-#include <diagnostic_updater/update_functions.h>
 #include <dynamic_reconfigure/server.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
@@ -16,6 +15,7 @@
 
 #include "pose_ekf/PoseEkfConfig.h"
 #include "pose_ekf/pose_ekf_adapter.h"
+#include "rig_model/ros/diagnostics.h"
 
 namespace pose_ekf {
 
@@ -35,29 +35,32 @@ class PoseEkfNodelet : public nodelet::Nodelet {
   std::unique_ptr<PoseEkfAdapter> adapter_;
   ros::Subscriber camera_sub_, imu_sub_;
   ros::Publisher pose_pub_, odom_pub_;
-  ros::Timer output_timer_, diagnostics_timer_;
+  ros::Timer output_timer_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   std::unique_ptr<tf2_ros::TransformBroadcaster> tf_broadcaster_;
   std::map<std::string, Eigen::Quaterniond> imu_rotations_;  // static camera-IMU rotation per IMU frame
-  std::unique_ptr<diagnostic_updater::Updater> updater_;
-  double imu_min_hz_ = 0, imu_max_hz_ = 0, camera_min_hz_ = 0, camera_max_hz_ = 0;
-  std::unique_ptr<diagnostic_updater::FrequencyStatus> imu_freq_, camera_freq_;
+  std::unique_ptr<rig_model::WallDiagnostics> diagnostics_;  // first: a refused config is published too
+  std::unique_ptr<rig_model::StampRateTask> imu_freq_, camera_freq_;
   boost::recursive_mutex reconfigure_mutex_;  // lets updateConfig() seed the server safely
   std::unique_ptr<dynamic_reconfigure::Server<PoseEkfConfig>> reconfigure_;
   ros::Time last_now_;
   double last_published_stamp_s_ = -1.0;
-  uint64_t imu_without_tf_ = 0;
+  uint64_t imu_without_tf_ = 0, imu_without_tf_reported_ = 0;
+  uint64_t time_jumps_back_ = 0;  // ROS time or a message stamp: each one reset the filter
+  std::string imu_tf_error_;      // why the last IMU sample had no camera-IMU rotation
 };
 
 void PoseEkfNodelet::onInit() {
   ros::NodeHandle& nh = getNodeHandle();
   ros::NodeHandle& pnh = getPrivateNodeHandle();
+  diagnostics_ = std::make_unique<rig_model::WallDiagnostics>(nh, pnh, getName(), "pose_ekf");
   NodeConfig config;
   try {
     config = LoadConfig(pnh);
   } catch (const std::exception& e) {
-    NODELET_FATAL("pose_ekf: invalid parameter: %s; the filter is not started", e.what());
+    NODELET_FATAL(
+        "%s", diagnostics_->RefuseConfig("filter", "pose_ekf", std::string("invalid parameter: ") + e.what()).c_str());
     return;
   }
   adapter_ = std::make_unique<PoseEkfAdapter>(config);
@@ -65,18 +68,14 @@ void PoseEkfNodelet::onInit() {
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
   tf_broadcaster_ = std::make_unique<tf2_ros::TransformBroadcaster>();
 
-  updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh);
-  updater_->setHardwareID("pose_ekf");
-  imu_min_hz_ = imu_max_hz_ = config.imu_expected_rate_hz;
-  camera_min_hz_ = camera_max_hz_ = config.camera_expected_rate_hz;
-  imu_freq_ = std::make_unique<diagnostic_updater::FrequencyStatus>(
-      diagnostic_updater::FrequencyStatusParam(&imu_min_hz_, &imu_max_hz_, 0.2, 10), "imu input");
-  camera_freq_ = std::make_unique<diagnostic_updater::FrequencyStatus>(
-      diagnostic_updater::FrequencyStatusParam(&camera_min_hz_, &camera_max_hz_, 0.5, 10), "camera input");
-  updater_->add(*imu_freq_);
-  updater_->add(*camera_freq_);
-  updater_->add("filter", this, &PoseEkfNodelet::Diagnose);
-  diagnostics_timer_ = nh.createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) { updater_->update(); });
+  rig_model::RateCheckConfig imu_rate = rig_model::RateCheckConfig::Around(config.imu_expected_rate_hz, 0.2);
+  imu_freq_ = std::make_unique<rig_model::StampRateTask>("imu input", imu_rate);
+  rig_model::RateCheckConfig camera_rate = rig_model::RateCheckConfig::Around(config.camera_expected_rate_hz, 0.5);
+  camera_rate.stale_level = diagnostic_msgs::DiagnosticStatus::WARN;  // no cones in view: the IMU carries on
+  camera_freq_ = std::make_unique<rig_model::StampRateTask>("camera input", camera_rate);
+  diagnostics_->Add(*imu_freq_);
+  diagnostics_->Add(*camera_freq_);
+  diagnostics_->Add("filter", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { Diagnose(s); });
 
   pose_pub_ = nh.advertise<geometry_msgs::PoseWithCovarianceStamped>("pose_ekf/pose", 10);
   odom_pub_ = nh.advertise<nav_msgs::Odometry>("pose_ekf/odometry", 10);
@@ -140,6 +139,7 @@ void PoseEkfNodelet::CheckTimeJump() {
   const ros::Time now = ros::Time::now();
   if (now < last_now_) {
     NODELET_WARN("pose_ekf: ROS time jumped back by %.3f s; resetting the filter", (last_now_ - now).toSec());
+    ++time_jumps_back_;
     adapter_->Reset();
     adapter_->buffer().TakeResetWarning();
     imu_rotations_.clear();
@@ -152,6 +152,7 @@ void PoseEkfNodelet::CheckTimeJump() {
 void PoseEkfNodelet::Report(AddResult r, const std::string& why, const char* what) {
   if (adapter_->buffer().TakeResetWarning()) {
     NODELET_WARN("pose_ekf: %s stamp jumped back by more than time_jump_reset_s; filter reset", what);
+    ++time_jumps_back_;
     last_published_stamp_s_ = -1.0;
   }
   if (r == AddResult::kRejectedNonFinite || r == AddResult::kRejectedInvalid || r == AddResult::kDroppedLate) {
@@ -163,7 +164,7 @@ void PoseEkfNodelet::Report(AddResult r, const std::string& why, const char* wha
 void PoseEkfNodelet::OnCamera(const geometry_msgs::PoseWithCovarianceStampedConstPtr& msg) {
   try {
     CheckTimeJump();
-    camera_freq_->tick();
+    camera_freq_->Tick(msg->header.stamp);
     std::string why;
     const AddResult r = adapter_->HandleCamera(*msg, &why);
     Report(r, why, "camera pose");
@@ -180,7 +181,7 @@ void PoseEkfNodelet::OnCamera(const geometry_msgs::PoseWithCovarianceStampedCons
 void PoseEkfNodelet::OnImu(const sensor_msgs::ImuConstPtr& msg) {
   try {
     CheckTimeJump();
-    imu_freq_->tick();
+    imu_freq_->Tick(msg->header.stamp);
     Eigen::Quaterniond q_camera_imu;
     if (!ImuRotation(msg->header.frame_id, &q_camera_imu)) {
       ++imu_without_tf_;
@@ -199,6 +200,7 @@ void PoseEkfNodelet::OnImu(const sensor_msgs::ImuConstPtr& msg) {
 bool PoseEkfNodelet::ImuRotation(const std::string& imu_frame, Eigen::Quaterniond* q) {
   const std::string& camera_frame = adapter_->config().camera_frame;
   if (imu_frame.empty()) {
+    imu_tf_error_ = "IMU message without frame_id";
     NODELET_WARN_THROTTLE(5.0, "pose_ekf: IMU message without frame_id (REP-145 needs it): not used");
     return false;
   }
@@ -220,6 +222,7 @@ bool PoseEkfNodelet::ImuRotation(const std::string& imu_frame, Eigen::Quaternion
     NODELET_INFO("pose_ekf: camera-IMU rotation %s <- %s found", camera_frame.c_str(), imu_frame.c_str());
     return true;
   } catch (const tf2::TransformException& e) {
+    imu_tf_error_ = "no tf " + camera_frame + " <- " + imu_frame + ": " + e.what();
     NODELET_WARN_THROTTLE(2.0, "pose_ekf: no tf %s <- %s yet (IMU sample not used): %s", camera_frame.c_str(),
                           imu_frame.c_str(), e.what());
     return false;
@@ -249,7 +252,10 @@ void PoseEkfNodelet::OnOutputTimer(const ros::TimerEvent& /*event*/) {
 
 void PoseEkfNodelet::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   const BufferCounters& c = adapter_->buffer().counters();
-  if (!adapter_->buffer().filter().initialized()) {
+  if (imu_without_tf_ > imu_without_tf_reported_) {  // the IMU path is dead until the tf appears
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::ERROR, "%lu IMU sample(s) dropped since the last report: %s",
+                  static_cast<unsigned long>(imu_without_tf_ - imu_without_tf_reported_), imu_tf_error_.c_str());
+  } else if (!adapter_->buffer().filter().initialized()) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "waiting for the first camera pose");
   } else if (adapter_->buffer().camera_gated_in_a_row() > 0) {
     stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "tracking; the last %d camera poses failed the chi2 gate",
@@ -271,7 +277,9 @@ void PoseEkfNodelet::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   stat.add("IMU before the first pose", c.imu_before_start);
   stat.add("NaN rejected", c.nan_rejected + adapter_->nan_rejected());
   stat.add("invalid rejected", adapter_->invalid_rejected());
+  imu_without_tf_reported_ = imu_without_tf_;
   stat.add("IMU without camera-IMU tf", imu_without_tf_);
+  stat.add("time jumps back", time_jumps_back_);
   stat.add("numerical failures", c.numerical_failures);
   stat.add("resets", c.resets);
   stat.add("late replays", c.replays);

@@ -3,7 +3,6 @@
 // and reconfigure callbacks all run on the nodelet's single-threaded queue, so
 // there is no locking (tf's listener thread only fills its own thread-safe buffer).
 #include <diagnostic_updater/diagnostic_updater.h>
-#include <diagnostic_updater/update_functions.h>
 #include <dynamic_reconfigure/server.h>
 #include <image_transport/image_transport.h>
 #include <nodelet/nodelet.h>
@@ -21,6 +20,7 @@
 #include "cone_tracker/node/layout.h"
 #include "cone_tracker/node/tracker_adapter.h"
 #include "cone_tracker/node/visuals.h"
+#include "rig_model/ros/diagnostics.h"
 
 namespace cone_tracker {
 
@@ -53,10 +53,8 @@ class ConeTrackerNodelet : public nodelet::Nodelet {
   ros::Publisher pose_pub_, detections_pub_, markers_pub_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
-  std::unique_ptr<diagnostic_updater::Updater> updater_;
-  double min_hz_ = 0, max_hz_ = 0;
-  std::unique_ptr<diagnostic_updater::FrequencyStatus> pose_freq_;
-  ros::Timer diagnostics_timer_;
+  std::unique_ptr<rig_model::WallDiagnostics> diagnostics_;
+  std::unique_ptr<rig_model::StampRateTask> image_freq_, pose_freq_;
   boost::recursive_mutex reconfigure_mutex_;  // lets updateConfig() seed the server safely
   std::unique_ptr<dynamic_reconfigure::Server<ConeTrackerConfig>> reconfigure_;
   std::set<std::string> encodings_reported_;
@@ -70,10 +68,8 @@ class ConeTrackerNodelet : public nodelet::Nodelet {
 void ConeTrackerNodelet::onInit() {
   ros::NodeHandle& nh = getNodeHandle();
   ros::NodeHandle& pnh = getPrivateNodeHandle();
-  updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
-  updater_->setHardwareID("cone_tracker");
-  updater_->add("tracker", this, &ConeTrackerNodelet::Diagnose);
-  diagnostics_timer_ = nh.createTimer(ros::Duration(0.1), [this](const ros::TimerEvent&) { updater_->update(); });
+  diagnostics_ = std::make_unique<rig_model::WallDiagnostics>(nh, pnh, getName(), "cone_tracker");
+  diagnostics_->Add("tracker", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { Diagnose(s); });
 
   NodeConfig config;
   std::vector<ConeModel> layout;
@@ -83,8 +79,8 @@ void ConeTrackerNodelet::onInit() {
     if (!LoadLayoutFile(config.layout_file, &layout, &error)) throw std::invalid_argument(error);
     adapter_ = std::make_unique<TrackerAdapter>(config, layout);
   } catch (const std::exception& e) {
-    fatal_ = e.what();
-    NODELET_FATAL("cone_tracker: %s; the tracker is not started", e.what());
+    fatal_ = diagnostics_->RefuseConfig("tracker", "cone_tracker", e.what());
+    NODELET_FATAL("%s", fatal_.c_str());
     return;
   }
   if (LayoutHasRotationalSymmetry(layout)) {
@@ -96,11 +92,12 @@ void ConeTrackerNodelet::onInit() {
         std::isnan(config.heading_prior_deg) ? "not set" : std::to_string(config.heading_prior_deg).c_str());
   }
 
-  min_hz_ = config.expected_rate_hz * (1.0 - config.rate_tolerance);
-  max_hz_ = config.expected_rate_hz * (1.0 + config.rate_tolerance);
-  pose_freq_ = std::make_unique<diagnostic_updater::FrequencyStatus>(
-      diagnostic_updater::FrequencyStatusParam(&min_hz_, &max_hz_, 0.0, 10), "pose rate");
-  updater_->add(*pose_freq_);
+  rig_model::RateCheckConfig rate = rig_model::RateCheckConfig::Around(config.expected_rate_hz, config.rate_tolerance);
+  image_freq_ = std::make_unique<rig_model::StampRateTask>("image input", rate);  // no images: ERROR
+  rate.stale_level = diagnostic_msgs::DiagnosticStatus::WARN;                     // no cones in view is no fault
+  pose_freq_ = std::make_unique<rig_model::StampRateTask>("pose rate", rate);
+  diagnostics_->Add(*image_freq_);
+  diagnostics_->Add(*pose_freq_);
 
   if (config.use_tf_prediction) {
     tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
@@ -209,10 +206,11 @@ void ConeTrackerNodelet::OnImage(const sensor_msgs::ImageConstPtr& msg) {
   const ros::WallTime start = ros::WallTime::now();
   try {
     any_frame_ = true;
+    image_freq_->Tick(msg->header.stamp);
     const FrameResult r = adapter_->Process(msg, TfPrediction(msg->header.stamp));
     if (r.pose) {
+      pose_freq_->Tick(r.pose->header.stamp);
       pose_pub_.publish(r.pose);
-      pose_freq_->tick();
       latency_ms_.Add((ros::Time::now() - msg->header.stamp).toSec() * 1e3);
     }
     if (r.detections) detections_pub_.publish(r.detections);
@@ -254,7 +252,7 @@ void ConeTrackerNodelet::Report(const FrameResult& r, const sensor_msgs::Image& 
 void ConeTrackerNodelet::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   using diagnostic_msgs::DiagnosticStatus;
   if (!adapter_) {
-    stat.summary(DiagnosticStatus::ERROR, "not running: " + fatal_);
+    stat.summary(DiagnosticStatus::ERROR, fatal_);  // not reached once RefuseConfig replaced this task
     return;
   }
   if (adapter_->has_camera_info() && !adapter_->camera_info_valid()) {

@@ -42,7 +42,10 @@ bool LoadSimPublisherConfig(const ros::NodeHandle& pnh, SimPublisherConfig* c, s
 }
 
 SimPublisher::SimPublisher(ros::NodeHandle nh, ros::NodeHandle pnh, const SimPublisherConfig& config)
-    : config_(config), nh_(nh), it_(nh), diagnostics_(nh, pnh) {
+    : config_(config),
+      nh_(nh),
+      it_(nh),
+      diagnostics_(nh, pnh, ros::this_node::getName(), "rig_sim/" + config.scenario) {
   std::string err;
   if (!MakeScenario(config.scenario, static_cast<uint64_t>(config.seed), config.layouts_dir, &scenario_, &err))
     throw std::invalid_argument(err);
@@ -65,8 +68,7 @@ SimPublisher::SimPublisher(ros::NodeHandle nh, ros::NodeHandle pnh, const SimPub
       pty_.reset();
     }
   }
-  diagnostics_.setHardwareID("rig_sim/" + config.scenario);
-  diagnostics_.add("simulated rig", this, &SimPublisher::Diagnose);
+  diagnostics_.Add("simulated rig", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { Diagnose(s); });
   pass_start_s_ = config.start_time_s;
   const ros::Time t0 = StampAt(pass_start_s_, 0.0);
   tf_static_pub_.publish(MakeStaticTruth(scenario_.imu, t0, frames_names_));
@@ -156,7 +158,6 @@ void SimPublisher::Run() {
       clock_pub_.publish(clock);
     }
     Publish(ev);
-    diagnostics_.update();
     ros::spinOnce();
   }
 }

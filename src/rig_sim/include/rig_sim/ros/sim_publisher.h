@@ -6,11 +6,11 @@
 #include <memory>
 #include <string>
 
-#include <diagnostic_updater/diagnostic_updater.h>
 #include <image_transport/image_transport.h>
 #include <ros/ros.h>
 
 #include "imu_driver/pseudo_terminal.h"
+#include "rig_model/ros/diagnostics.h"
 #include "rig_sim/ros/frame_pipeline.h"
 #include "rig_sim/ros/messages.h"
 
@@ -52,7 +52,7 @@ class SimPublisher {
   image_transport::ImageTransport it_;
   image_transport::CameraPublisher camera_pub_;
   ros::Publisher imu_pub_, truth_pub_, bias_pub_, clock_pub_, tf_pub_, tf_static_pub_, markers_pub_;
-  diagnostic_updater::Updater diagnostics_;
+  rig_model::WallDiagnostics diagnostics_;  // on a wall timer, served by Run()'s spinOnce()
   std::unique_ptr<SimStream> stream_;
   std::unique_ptr<FramePipeline> frames_;
   std::unique_ptr<imu_driver::PseudoTerminal> pty_;
