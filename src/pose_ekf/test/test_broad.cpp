@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "imu_driver/gyro_bias.h"
-#include "pose_ekf/measurement_buffer.h"
+#include "pose_ekf/core/measurement_buffer.h"
 
 namespace pose_ekf_test {
 namespace {

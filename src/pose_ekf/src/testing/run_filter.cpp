@@ -1,7 +1,7 @@
 #include <cmath>
 
+#include "pose_ekf/testing/synthetic_rig.h"
 #include "pose_math/covariance.h"
-#include "synthetic_rig.h"
 
 #include <boost/math/distributions/chi_squared.hpp>
 

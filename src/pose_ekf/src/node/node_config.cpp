@@ -1,4 +1,4 @@
-#include "pose_ekf/node_config.h"
+#include "pose_ekf/node/node_config.h"
 
 #include <ros/node_handle.h>
 #include <yaml-cpp/yaml.h>

@@ -1,4 +1,4 @@
-#include "pose_ekf/replay.h"
+#include "pose_ekf/node/replay.h"
 
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
@@ -11,7 +11,7 @@
 #include <ostream>
 #include <stdexcept>
 
-#include "pose_ekf/pose_ekf_adapter.h"
+#include "pose_ekf/node/pose_ekf_adapter.h"
 
 namespace pose_ekf {
 namespace {

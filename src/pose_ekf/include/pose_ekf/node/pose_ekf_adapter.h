@@ -12,8 +12,8 @@
 #include <Eigen/Geometry>
 #include <string>
 
-#include "pose_ekf/measurement_buffer.h"
-#include "pose_ekf/node_config.h"
+#include "pose_ekf/core/measurement_buffer.h"
+#include "pose_ekf/node/node_config.h"
 
 namespace pose_ekf {
 

@@ -5,7 +5,7 @@
 #include <iosfwd>
 #include <string>
 
-#include "pose_ekf/node_config.h"
+#include "pose_ekf/node/node_config.h"
 
 namespace pose_ekf {
 

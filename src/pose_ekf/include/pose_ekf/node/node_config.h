@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "pose_ekf/config.h"
+#include "pose_ekf/core/config.h"
 
 namespace ros {
 class NodeHandle;

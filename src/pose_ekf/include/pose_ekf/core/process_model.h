@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 
-#include "pose_ekf/config.h"
+#include "pose_ekf/core/config.h"
 
 namespace pose_ekf {
 

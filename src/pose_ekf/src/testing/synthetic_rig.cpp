@@ -1,4 +1,4 @@
-#include "synthetic_rig.h"
+#include "pose_ekf/testing/synthetic_rig.h"
 
 #include <cmath>
 #include <random>

@@ -1,7 +1,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "pose_ekf/config.h"
+#include "pose_ekf/core/config.h"
 
 namespace pose_ekf {
 namespace {

@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <deque>
 
-#include "pose_ekf/ekf_core.h"
+#include "pose_ekf/core/ekf_core.h"
 
 namespace pose_ekf {
 

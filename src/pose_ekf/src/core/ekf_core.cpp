@@ -1,4 +1,4 @@
-#include "pose_ekf/ekf_core.h"
+#include "pose_ekf/core/ekf_core.h"
 
 #include "pose_math/covariance.h"
 

@@ -15,7 +15,7 @@
 #include <memory>
 
 #include "pose_ekf/PoseEkfConfig.h"
-#include "pose_ekf/pose_ekf_adapter.h"
+#include "pose_ekf/node/pose_ekf_adapter.h"
 
 namespace pose_ekf {
 

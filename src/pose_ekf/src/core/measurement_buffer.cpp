@@ -1,4 +1,4 @@
-#include "pose_ekf/measurement_buffer.h"
+#include "pose_ekf/core/measurement_buffer.h"
 
 #include <algorithm>
 #include <cmath>

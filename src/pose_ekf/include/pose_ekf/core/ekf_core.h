@@ -3,9 +3,9 @@
 // Update*() at each measurement's stamp. MeasurementBuffer does that in stamp order.
 #pragma once
 
-#include "pose_ekf/config.h"
-#include "pose_ekf/measurement.h"
-#include "pose_ekf/process_model.h"
+#include "pose_ekf/core/config.h"
+#include "pose_ekf/core/measurement.h"
+#include "pose_ekf/core/process_model.h"
 #include "pose_math/pose.h"
 
 namespace pose_ekf {

@@ -1,4 +1,4 @@
-#include "pose_ekf/process_model.h"
+#include "pose_ekf/core/process_model.h"
 
 #include <cmath>
 

@@ -3,7 +3,7 @@
 #include <cstring>
 #include <iostream>
 
-#include "pose_ekf/replay.h"
+#include "pose_ekf/node/replay.h"
 
 int main(int argc, char** argv) {
   pose_ekf::ReplayOptions o;

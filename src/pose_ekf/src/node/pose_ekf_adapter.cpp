@@ -1,4 +1,4 @@
-#include "pose_ekf/pose_ekf_adapter.h"
+#include "pose_ekf/node/pose_ekf_adapter.h"
 
 #include <ros/time.h>
 

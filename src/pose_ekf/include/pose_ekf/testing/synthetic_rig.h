@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "pose_ekf/measurement.h"
+#include "pose_ekf/core/measurement.h"
 
 namespace pose_ekf_test {
 
@@ -59,7 +59,7 @@ double Nees(const pose_math::Pose& truth, const pose_math::PoseWithCovariance& e
 
 #include <functional>
 
-#include "pose_ekf/measurement_buffer.h"
+#include "pose_ekf/core/measurement_buffer.h"
 
 namespace pose_ekf_test {
 
