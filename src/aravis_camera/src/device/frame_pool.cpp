@@ -1,4 +1,4 @@
-#include "aravis_camera/frame_pool.h"
+#include "aravis_camera/device/frame_pool.h"
 
 #include <set>
 #include <utility>

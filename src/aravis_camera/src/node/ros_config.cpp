@@ -1,4 +1,4 @@
-#include "aravis_camera/ros_config.h"
+#include "aravis_camera/node/ros_config.h"
 
 #include <stdexcept>
 

@@ -3,7 +3,7 @@
 
 #include <ros/node_handle.h>
 
-#include "aravis_camera/camera_config.h"
+#include "aravis_camera/core/camera_config.h"
 
 namespace aravis_camera {
 

@@ -1,6 +1,6 @@
 // Opening, configuring and closing the camera (CameraDevice's connection half).
-#include "aravis_camera/camera_device.h"
-#include "aravis_camera/pixel_format.h"
+#include "aravis_camera/core/pixel_format.h"
+#include "aravis_camera/device/camera_device.h"
 
 namespace aravis_camera {
 

@@ -1,4 +1,4 @@
-#include "aravis_camera/timestamp_mapper.h"
+#include "aravis_camera/core/timestamp_mapper.h"
 
 #include <algorithm>
 #include <cstdlib>

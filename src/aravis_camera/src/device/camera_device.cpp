@@ -1,10 +1,10 @@
-#include "aravis_camera/camera_device.h"
+#include "aravis_camera/device/camera_device.h"
 
 #include <chrono>
 #include <cstdio>
 #include <ctime>
 
-#include "aravis_camera/pixel_format.h"
+#include "aravis_camera/core/pixel_format.h"
 
 namespace aravis_camera {
 

@@ -17,7 +17,7 @@
 #include <deque>
 #include <vector>
 
-#include "aravis_camera/frame_pool.h"
+#include "aravis_camera/device/frame_pool.h"
 
 namespace aravis_camera {
 

@@ -17,9 +17,9 @@
 #include <string>
 #include <thread>
 
-#include "aravis_camera/camera_config.h"
-#include "aravis_camera/frame_pool.h"
-#include "aravis_camera/timestamp_mapper.h"
+#include "aravis_camera/core/camera_config.h"
+#include "aravis_camera/core/timestamp_mapper.h"
+#include "aravis_camera/device/frame_pool.h"
 
 namespace aravis_camera {
 

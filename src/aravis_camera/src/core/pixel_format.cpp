@@ -1,4 +1,4 @@
-#include "aravis_camera/pixel_format.h"
+#include "aravis_camera/core/pixel_format.h"
 
 #include <array>
 

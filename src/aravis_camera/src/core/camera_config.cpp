@@ -1,8 +1,8 @@
-#include "aravis_camera/camera_config.h"
+#include "aravis_camera/core/camera_config.h"
 
 #include <cmath>
 
-#include "aravis_camera/pixel_format.h"
+#include "aravis_camera/core/pixel_format.h"
 
 namespace aravis_camera {
 

@@ -13,8 +13,8 @@
 #include <memory>
 
 #include "aravis_camera/CameraLiveConfig.h"
-#include "aravis_camera/camera_device.h"
-#include "aravis_camera/ros_config.h"
+#include "aravis_camera/device/camera_device.h"
+#include "aravis_camera/node/ros_config.h"
 
 namespace aravis_camera {
 
