@@ -1,4 +1,4 @@
-#include "ar_overlay/egl_context.h"
+#include "ar_overlay/core/egl_context.h"
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>

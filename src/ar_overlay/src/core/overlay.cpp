@@ -1,9 +1,9 @@
-#include "ar_overlay/overlay.h"
+#include "ar_overlay/core/overlay.h"
 
 #include <stdexcept>
 
-#include "ar_overlay/composite.h"
-#include "ar_overlay/model_loader.h"
+#include "ar_overlay/core/composite.h"
+#include "ar_overlay/core/model_loader.h"
 
 namespace ar_overlay {
 

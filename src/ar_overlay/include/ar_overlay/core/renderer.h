@@ -11,9 +11,9 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
-#include "ar_overlay/camera_projection.h"
-#include "ar_overlay/egl_context.h"
-#include "ar_overlay/mesh.h"
+#include "ar_overlay/core/camera_projection.h"
+#include "ar_overlay/core/egl_context.h"
+#include "ar_overlay/core/mesh.h"
 
 namespace ar_overlay {
 

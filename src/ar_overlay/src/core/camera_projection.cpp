@@ -1,4 +1,4 @@
-#include "ar_overlay/camera_projection.h"
+#include "ar_overlay/core/camera_projection.h"
 
 #include <algorithm>
 #include <cmath>

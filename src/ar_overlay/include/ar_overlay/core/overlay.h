@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "ar_overlay/renderer.h"
-#include "ar_overlay/scene.h"
+#include "ar_overlay/core/renderer.h"
+#include "ar_overlay/core/scene.h"
 
 namespace ar_overlay {
 

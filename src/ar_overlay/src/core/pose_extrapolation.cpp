@@ -1,4 +1,4 @@
-#include "ar_overlay/pose_extrapolation.h"
+#include "ar_overlay/core/pose_extrapolation.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "ar_overlay/scene.h"
+#include "ar_overlay/core/scene.h"
 
 #include <yaml-cpp/yaml.h>
 

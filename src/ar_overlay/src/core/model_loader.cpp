@@ -1,4 +1,4 @@
-#include "ar_overlay/model_loader.h"
+#include "ar_overlay/core/model_loader.h"
 
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>

@@ -9,7 +9,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
-#include "ar_overlay/camera_projection.h"
+#include "ar_overlay/core/camera_projection.h"
 
 namespace ar_overlay {
 

@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "ar_overlay/camera_projection.h"
+#include "ar_overlay/core/camera_projection.h"
 
 namespace ar_overlay {
 

@@ -1,4 +1,4 @@
-#include "ar_overlay/mesh_generators.h"
+#include "ar_overlay/core/mesh_generators.h"
 
 #include <algorithm>
 #include <cmath>

@@ -23,10 +23,10 @@
 #include <pluginlib/class_list_macros.hpp>
 #include <thread>
 
-#include "ar_overlay/composite.h"
-#include "ar_overlay/overlay.h"
-#include "ar_overlay/pose_extrapolation.h"
-#include "ar_overlay/ros_config.h"
+#include "ar_overlay/core/composite.h"
+#include "ar_overlay/core/overlay.h"
+#include "ar_overlay/core/pose_extrapolation.h"
+#include "ar_overlay/node/ros_config.h"
 
 namespace ar_overlay {
 

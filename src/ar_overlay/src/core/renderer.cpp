@@ -1,4 +1,4 @@
-#include "ar_overlay/renderer.h"
+#include "ar_overlay/core/renderer.h"
 
 #include <GLES3/gl3.h>
 #include <malloc.h>

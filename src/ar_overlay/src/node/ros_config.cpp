@@ -1,4 +1,4 @@
-#include "ar_overlay/ros_config.h"
+#include "ar_overlay/node/ros_config.h"
 
 #include <fstream>
 #include <stdexcept>

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "ar_overlay/mesh.h"
+#include "ar_overlay/core/mesh.h"
 
 namespace ar_overlay {
 

@@ -1,4 +1,4 @@
-#include "ar_overlay/platform_alignment.h"
+#include "ar_overlay/core/platform_alignment.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "ar_overlay/mesh.h"
+#include "ar_overlay/core/mesh.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "ar_overlay/mesh.h"
+#include "ar_overlay/core/mesh.h"
 
 namespace ar_overlay {
 

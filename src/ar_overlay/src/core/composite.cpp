@@ -1,4 +1,4 @@
-#include "ar_overlay/composite.h"
+#include "ar_overlay/core/composite.h"
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
