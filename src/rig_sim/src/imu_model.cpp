@@ -1,6 +1,6 @@
 #include "rig_sim/imu_model.h"
 
-#include "imu_driver/crista_protocol.h"
+#include "imu_driver/core/crista_protocol.h"
 #include "pose_math/rotation.h"
 
 #include <cmath>

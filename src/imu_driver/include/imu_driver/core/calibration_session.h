@@ -9,8 +9,8 @@
 #include <optional>
 #include <string>
 
-#include "imu_driver/crista_stream.h"
-#include "imu_driver/gyro_bias.h"
+#include "imu_driver/core/crista_stream.h"
+#include "imu_driver/core/gyro_bias.h"
 
 namespace imu_driver {
 

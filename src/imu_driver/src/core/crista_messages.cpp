@@ -1,10 +1,10 @@
-#include "imu_driver/crista_messages.h"
+#include "imu_driver/core/crista_messages.h"
 
 #include <cmath>
 #include <cstring>
 #include <sstream>
 
-#include "imu_driver/crista_protocol.h"
+#include "imu_driver/core/crista_protocol.h"
 
 namespace imu_driver {
 namespace {

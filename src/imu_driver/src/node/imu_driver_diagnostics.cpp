@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "imu_driver/crista_messages.h"
+#include "imu_driver/core/crista_messages.h"
 
 namespace imu_driver {
 

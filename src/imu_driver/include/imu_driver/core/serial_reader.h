@@ -10,8 +10,8 @@
 #include <string>
 #include <thread>
 
-#include "imu_driver/crista_stream.h"
-#include "imu_driver/serial_port.h"
+#include "imu_driver/core/crista_stream.h"
+#include "imu_driver/core/serial_port.h"
 
 namespace imu_driver {
 

@@ -12,7 +12,7 @@
 #include <functional>
 #include <vector>
 
-#include "imu_driver/crista_protocol.h"
+#include "imu_driver/core/crista_protocol.h"
 
 namespace imu_driver {
 

@@ -1,4 +1,4 @@
-#include "imu_driver/crista_parser.h"
+#include "imu_driver/core/crista_parser.h"
 
 #include <cstring>
 

@@ -1,4 +1,4 @@
-#include "imu_driver/crista_stream.h"
+#include "imu_driver/core/crista_stream.h"
 
 #include <algorithm>
 #include <cmath>

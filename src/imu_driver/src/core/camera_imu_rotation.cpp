@@ -1,4 +1,4 @@
-#include "imu_driver/camera_imu_rotation.h"
+#include "imu_driver/core/camera_imu_rotation.h"
 
 #include <Eigen/Dense>
 #include <algorithm>

@@ -1,4 +1,4 @@
-#include "imu_driver/serial_reader.h"
+#include "imu_driver/core/serial_reader.h"
 
 #include <algorithm>
 #include <array>

@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "imu_driver/time_sync.h"
+#include "imu_driver/core/time_sync.h"
 
 namespace imu_driver {
 namespace test {

@@ -1,4 +1,4 @@
-#include "imu_driver/pseudo_terminal.h"
+#include "imu_driver/core/pseudo_terminal.h"
 
 #include <poll.h>
 #include <pty.h>

@@ -1,4 +1,4 @@
-#include "imu_driver/serial_port.h"
+#include "imu_driver/core/serial_port.h"
 
 #include <fcntl.h>
 #include <poll.h>

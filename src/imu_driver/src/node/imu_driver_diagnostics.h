@@ -4,9 +4,9 @@
 
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
 
-#include "imu_driver/calibration_session.h"
-#include "imu_driver/driver_config.h"
-#include "imu_driver/serial_reader.h"
+#include "imu_driver/core/calibration_session.h"
+#include "imu_driver/core/driver_config.h"
+#include "imu_driver/core/serial_reader.h"
 
 namespace imu_driver {
 

@@ -13,9 +13,9 @@
 #include <memory>
 #include <pluginlib/class_list_macros.hpp>
 
-#include "imu_driver/calibration_session.h"
-#include "imu_driver/ros_adapter.h"
-#include "imu_driver/serial_reader.h"
+#include "imu_driver/core/calibration_session.h"
+#include "imu_driver/core/serial_reader.h"
+#include "imu_driver/node/ros_adapter.h"
 #include "imu_driver_diagnostics.h"
 
 namespace imu_driver {

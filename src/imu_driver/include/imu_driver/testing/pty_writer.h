@@ -7,7 +7,7 @@
 #include <thread>
 #include <vector>
 
-#include "imu_driver/pseudo_terminal.h"
+#include "imu_driver/core/pseudo_terminal.h"
 
 namespace imu_driver {
 namespace test {

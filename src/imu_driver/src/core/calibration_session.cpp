@@ -1,4 +1,4 @@
-#include "imu_driver/calibration_session.h"
+#include "imu_driver/core/calibration_session.h"
 
 #include <sstream>
 

@@ -7,10 +7,10 @@
 #include <cstdint>
 #include <functional>
 
-#include "imu_driver/crista_messages.h"
-#include "imu_driver/crista_parser.h"
-#include "imu_driver/crista_protocol.h"
-#include "imu_driver/time_sync.h"
+#include "imu_driver/core/crista_messages.h"
+#include "imu_driver/core/crista_parser.h"
+#include "imu_driver/core/crista_protocol.h"
+#include "imu_driver/core/time_sync.h"
 
 namespace imu_driver {
 

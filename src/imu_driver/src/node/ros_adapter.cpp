@@ -1,4 +1,4 @@
-#include "imu_driver/ros_adapter.h"
+#include "imu_driver/node/ros_adapter.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "imu_driver/serial_port.h"
+#include "imu_driver/core/serial_port.h"
 
 namespace imu_driver {
 namespace {

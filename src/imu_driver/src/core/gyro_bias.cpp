@@ -1,4 +1,4 @@
-#include "imu_driver/gyro_bias.h"
+#include "imu_driver/core/gyro_bias.h"
 
 #include <algorithm>
 #include <cmath>

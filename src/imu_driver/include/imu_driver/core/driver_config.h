@@ -6,7 +6,7 @@
 #include <Eigen/Geometry>
 #include <string>
 
-#include "imu_driver/serial_reader.h"
+#include "imu_driver/core/serial_reader.h"
 
 namespace imu_driver {
 

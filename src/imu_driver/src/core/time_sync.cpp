@@ -1,4 +1,4 @@
-#include "imu_driver/time_sync.h"
+#include "imu_driver/core/time_sync.h"
 
 #include <algorithm>
 #include <cmath>

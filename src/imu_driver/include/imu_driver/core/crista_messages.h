@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "imu_driver/crista_parser.h"
+#include "imu_driver/core/crista_parser.h"
 
 namespace imu_driver {
 

@@ -4,9 +4,9 @@
 #include <ros/node_handle.h>
 #include <sensor_msgs/Imu.h>
 
-#include "imu_driver/calibration_session.h"
-#include "imu_driver/driver_config.h"
-#include "imu_driver/gyro_bias.h"
+#include "imu_driver/core/calibration_session.h"
+#include "imu_driver/core/driver_config.h"
+#include "imu_driver/core/gyro_bias.h"
 
 namespace imu_driver {
 

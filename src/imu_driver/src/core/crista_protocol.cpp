@@ -1,4 +1,4 @@
-#include "imu_driver/crista_protocol.h"
+#include "imu_driver/core/crista_protocol.h"
 
 #include <cmath>
 #include <limits>

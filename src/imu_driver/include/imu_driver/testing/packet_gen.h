@@ -7,8 +7,8 @@
 #include <random>
 #include <vector>
 
-#include "imu_driver/crista_parser.h"
-#include "imu_driver/crista_protocol.h"
+#include "imu_driver/core/crista_parser.h"
+#include "imu_driver/core/crista_protocol.h"
 
 namespace imu_driver {
 namespace test {
