@@ -16,8 +16,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "ar_overlay/mesh_generators.h"
-#include "ar_overlay/overlay.h"
+#include "ar_overlay/core/mesh_generators.h"
+#include "ar_overlay/core/overlay.h"
 
 using namespace ar_overlay;
 using Clock = std::chrono::steady_clock;

@@ -6,10 +6,10 @@
 #include <iterator>
 #include <sstream>
 
-#include "ar_overlay/mesh_generators.h"
-#include "ar_overlay/model_loader.h"
-#include "ar_overlay/overlay.h"
-#include "ar_overlay/scene.h"
+#include "ar_overlay/core/mesh_generators.h"
+#include "ar_overlay/core/model_loader.h"
+#include "ar_overlay/core/overlay.h"
+#include "ar_overlay/core/scene.h"
 
 namespace ar_overlay {
 namespace {

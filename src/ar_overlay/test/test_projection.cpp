@@ -4,9 +4,9 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "ar_overlay/camera_projection.h"
-#include "ar_overlay/composite.h"
-#include "ar_overlay/pose_extrapolation.h"
+#include "ar_overlay/core/camera_projection.h"
+#include "ar_overlay/core/composite.h"
+#include "ar_overlay/core/pose_extrapolation.h"
 
 namespace ar_overlay {
 namespace {

@@ -7,9 +7,9 @@
 #include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "ar_overlay/mesh_generators.h"
-#include "ar_overlay/overlay.h"
-#include "ar_overlay/renderer.h"
+#include "ar_overlay/core/mesh_generators.h"
+#include "ar_overlay/core/overlay.h"
+#include "ar_overlay/core/renderer.h"
 
 namespace ar_overlay {
 namespace {

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 
-#include "ar_overlay/ros_config.h"
+#include "ar_overlay/node/ros_config.h"
 
 namespace ar_overlay {
 namespace {

@@ -6,7 +6,7 @@
 #include <exception>
 #include <string>
 
-#include "ar_overlay/mesh_generators.h"
+#include "ar_overlay/core/mesh_generators.h"
 
 int main(int argc, char** argv) {
   if (argc != 2) {

@@ -12,8 +12,8 @@
 #include <cstdio>
 #include <memory>
 
-#include "ar_overlay/platform_alignment.h"
-#include "ar_overlay/ros_config.h"
+#include "ar_overlay/core/platform_alignment.h"
+#include "ar_overlay/node/ros_config.h"
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "ar_overlay/overlay.h"
+#include "ar_overlay/core/overlay.h"
 
 using namespace ar_overlay;
 

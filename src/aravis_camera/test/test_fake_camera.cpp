@@ -10,8 +10,8 @@
 #include <thread>
 #include <vector>
 
-#include "aravis_camera/camera_device.h"
-#include "fake_camera.h"
+#include "aravis_camera/device/camera_device.h"
+#include "aravis_camera/testing/fake_camera.h"
 
 namespace aravis_camera {
 namespace {

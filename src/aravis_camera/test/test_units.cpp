@@ -5,9 +5,9 @@
 #include <random>
 #include <vector>
 
-#include "aravis_camera/camera_config.h"
-#include "aravis_camera/pixel_format.h"
-#include "aravis_camera/timestamp_mapper.h"
+#include "aravis_camera/core/camera_config.h"
+#include "aravis_camera/core/pixel_format.h"
+#include "aravis_camera/core/timestamp_mapper.h"
 
 namespace aravis_camera {
 namespace {

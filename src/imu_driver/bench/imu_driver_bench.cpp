@@ -13,13 +13,13 @@
 
 #include <boost/make_shared.hpp>
 
-#include "imu_driver/calibration_session.h"
-#include "imu_driver/crista_parser.h"
-#include "imu_driver/ros_adapter.h"
-#include "imu_driver/serial_reader.h"
-#include "jitter_sim.h"
-#include "packet_gen.h"
-#include "pty_writer.h"
+#include "imu_driver/core/calibration_session.h"
+#include "imu_driver/core/crista_parser.h"
+#include "imu_driver/core/serial_reader.h"
+#include "imu_driver/node/ros_adapter.h"
+#include "imu_driver/testing/jitter_sim.h"
+#include "imu_driver/testing/packet_gen.h"
+#include "imu_driver/testing/pty_writer.h"
 
 namespace imu_driver {
 namespace {

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <random>
 
-#include "imu_driver/calibration_session.h"
-#include "imu_driver/camera_imu_rotation.h"
-#include "imu_driver/gyro_bias.h"
+#include "imu_driver/core/calibration_session.h"
+#include "imu_driver/core/camera_imu_rotation.h"
+#include "imu_driver/core/gyro_bias.h"
 #include "pose_math/rotation.h"
 
 namespace imu_driver {

@@ -4,7 +4,7 @@
 
 #include <fstream>
 
-#include "imu_driver/calibration_files.h"
+#include "imu_driver/core/calibration_files.h"
 #include "rig_model/strict_yaml.h"
 
 namespace imu_driver {

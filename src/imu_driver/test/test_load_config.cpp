@@ -3,9 +3,8 @@
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 
+#include "imu_driver/node/ros_adapter.h"
 #include <fstream>
-
-#include "imu_driver/ros_adapter.h"
 
 namespace imu_driver {
 namespace {

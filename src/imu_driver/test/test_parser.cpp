@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <random>
 
-#include "imu_driver/crista_parser.h"
-#include "packet_gen.h"
+#include "imu_driver/core/crista_parser.h"
+#include "imu_driver/testing/packet_gen.h"
 
 namespace imu_driver {
 namespace {

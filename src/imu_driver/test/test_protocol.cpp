@@ -4,7 +4,7 @@
 #include <random>
 #include <string>
 
-#include "imu_driver/crista_protocol.h"
+#include "imu_driver/core/crista_protocol.h"
 
 namespace imu_driver {
 namespace {

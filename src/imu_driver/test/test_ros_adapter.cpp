@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "imu_driver/ros_adapter.h"
+#include "imu_driver/node/ros_adapter.h"
 
 namespace imu_driver {
 namespace {

@@ -6,9 +6,9 @@
 #include <mutex>
 #include <random>
 
-#include "imu_driver/serial_reader.h"
-#include "packet_gen.h"
-#include "pty_writer.h"
+#include "imu_driver/core/serial_reader.h"
+#include "imu_driver/testing/packet_gen.h"
+#include "imu_driver/testing/pty_writer.h"
 
 namespace imu_driver {
 namespace {

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <random>
 
-#include "imu_driver/crista_stream.h"
-#include "packet_gen.h"
+#include "imu_driver/core/crista_stream.h"
+#include "imu_driver/testing/packet_gen.h"
 
 namespace imu_driver {
 namespace {

@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <random>
 
-#include "imu_driver/time_sync.h"
-#include "jitter_sim.h"
+#include "imu_driver/core/time_sync.h"
+#include "imu_driver/testing/jitter_sim.h"
 
 namespace imu_driver {
 namespace {

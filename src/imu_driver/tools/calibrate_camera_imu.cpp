@@ -16,7 +16,7 @@
 #include <fstream>
 #include <iomanip>
 
-#include "imu_driver/camera_imu_rotation.h"
+#include "imu_driver/core/camera_imu_rotation.h"
 #include "pose_math/rotation.h"
 #include "rig_model/strict_yaml.h"
 

@@ -20,8 +20,8 @@
 #include <string>
 #include <thread>
 
-#include "imu_driver/crista_protocol.h"
-#include "imu_driver/pseudo_terminal.h"
+#include "imu_driver/core/crista_protocol.h"
+#include "imu_driver/core/pseudo_terminal.h"
 
 namespace {
 

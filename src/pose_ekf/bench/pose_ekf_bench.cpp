@@ -8,8 +8,8 @@
 #include <cstdio>
 #include <vector>
 
-#include "../test/synthetic_rig.h"
-#include "pose_ekf/measurement_buffer.h"
+#include "pose_ekf/core/measurement_buffer.h"
+#include "pose_ekf/testing/synthetic_rig.h"
 
 namespace {
 

@@ -7,7 +7,7 @@
 
 #include <Eigen/Geometry>
 
-#include "pose_ekf/measurement.h"
+#include "pose_ekf/core/measurement.h"
 #include "pose_math/covariance.h"
 
 namespace pose_ekf_test {

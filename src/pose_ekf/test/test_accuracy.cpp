@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "synthetic_rig.h"
+#include "pose_ekf/testing/synthetic_rig.h"
 
 namespace pose_ekf_test {
 namespace {

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <limits>
 
-#include "pose_ekf/pose_ekf_adapter.h"
+#include "pose_ekf/node/pose_ekf_adapter.h"
 #include "pose_math/rotation.h"
 #include "ros_messages.h"
 #include "synthetic_rig.h"

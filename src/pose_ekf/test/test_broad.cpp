@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "imu_driver/gyro_bias.h"
-#include "pose_ekf/measurement_buffer.h"
+#include "imu_driver/core/gyro_bias.h"
+#include "pose_ekf/core/measurement_buffer.h"
 
 namespace pose_ekf_test {
 namespace {

@@ -8,8 +8,8 @@
 #include <cmath>
 #include <functional>
 
-#include "pose_ekf/ekf_core.h"
-#include "pose_ekf/measurement_buffer.h"
+#include "pose_ekf/core/ekf_core.h"
+#include "pose_ekf/core/measurement_buffer.h"
 #include "pose_math/covariance.h"
 #include "pose_math/rotation.h"
 #include "synthetic_rig.h"

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-#include "pose_ekf/ekf_core.h"
+#include "pose_ekf/core/ekf_core.h"
 #include "pose_math/covariance.h"
 #include "pose_math/rotation.h"
 

@@ -5,7 +5,7 @@
 
 #include <fstream>
 
-#include "pose_ekf/node_config.h"
+#include "pose_ekf/node/node_config.h"
 
 namespace {
 

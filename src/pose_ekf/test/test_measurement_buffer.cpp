@@ -5,9 +5,9 @@
 #include <cmath>
 #include <limits>
 
-#include "pose_ekf/measurement_buffer.h"
+#include "pose_ekf/core/measurement_buffer.h"
+#include "pose_ekf/testing/synthetic_rig.h"
 #include "pose_math/covariance.h"
-#include "synthetic_rig.h"
 
 namespace pose_ekf_test {
 namespace {

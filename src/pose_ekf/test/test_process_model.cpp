@@ -4,7 +4,7 @@
 
 #include <functional>
 
-#include "pose_ekf/process_model.h"
+#include "pose_ekf/core/process_model.h"
 #include "pose_math/quaternion.h"
 
 namespace pose_ekf {

@@ -10,11 +10,11 @@
 #include <map>
 #include <sstream>
 
-#include "pose_ekf/node_config.h"
-#include "pose_ekf/replay.h"
+#include "pose_ekf/node/replay.h"
+#include "pose_ekf/testing/synthetic_rig.h"
+#include "pose_ekf/node/node_config.h"
 #include "pose_math/rotation.h"
 #include "ros_messages.h"
-#include "synthetic_rig.h"
 
 namespace pose_ekf_test {
 namespace {

@@ -16,11 +16,11 @@
 #include <string>
 #include <vector>
 
+#include "pose_ekf/testing/synthetic_rig.h"
 #include "pose_math/covariance.h"
 #include "pose_math/rotation.h"
 #include "rig_sim/camera_model.h"
 #include "rig_sim/scenario.h"
-#include "synthetic_rig.h"
 
 namespace pose_ekf_test {
 namespace {

@@ -8,9 +8,9 @@
 #include <cmath>
 #include <vector>
 
-#include "imu_driver/camera_imu_rotation.h"
-#include "imu_driver/crista_parser.h"
-#include "imu_driver/gyro_bias.h"
+#include "imu_driver/core/camera_imu_rotation.h"
+#include "imu_driver/core/crista_parser.h"
+#include "imu_driver/core/gyro_bias.h"
 #include "rig_sim/crista_link.h"
 #include "rig_sim/trajectory.h"
 

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "imu_driver/crista_protocol.h"
+#include "imu_driver/core/crista_protocol.h"
 #include "rig_sim/imu_model.h"
 
 namespace rig_sim {

@@ -9,7 +9,7 @@
 #include <image_transport/image_transport.h>
 #include <ros/ros.h>
 
-#include "imu_driver/pseudo_terminal.h"
+#include "imu_driver/core/pseudo_terminal.h"
 #include "rig_model/ros/diagnostics.h"
 #include "rig_sim/ros/frame_pipeline.h"
 #include "rig_sim/ros/messages.h"

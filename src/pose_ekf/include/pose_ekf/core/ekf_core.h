@@ -1,0 +1,85 @@
+// The quaternion EKF of thesis chapter 5, without buffering or ROS.
+// Call order: Initialize() from a camera pose, then Predict(t) and one of the
+// Update*() at each measurement's stamp. MeasurementBuffer does that in stamp order.
+#pragma once
+
+#include "pose_ekf/core/config.h"
+#include "pose_ekf/core/measurement.h"
+#include "pose_ekf/core/process_model.h"
+#include "pose_math/pose.h"
+
+namespace pose_ekf {
+
+enum class UpdateResult { kApplied, kDisabled, kGated, kRejectedNonFinite, kNumericalFailure };
+const char* ToString(UpdateResult r);
+
+// Everything needed to go back in time (buffer replay, 6.3).
+struct FilterState {
+  double stamp_s = 0.0;
+  StateVector x;
+  StateMatrix P;
+};
+
+class EkfCore {
+ public:
+  // Throws std::invalid_argument naming the member if config.Validate() fails.
+  explicit EkfCore(const EkfConfig& config);
+
+  // Noise and switches may change at run time; the state size may not
+  // (estimate_gyro_bias changes take effect at the next Initialize()).
+  void SetConfig(const EkfConfig& config);
+  const EkfConfig& config() const { return config_; }
+
+  // From the first accepted camera pose and its covariance. Returns false (and
+  // stays uninitialised) for a non-finite measurement.
+  bool Initialize(const CameraMeasurement& m);
+  // IMU-only start (EkfConfig::init_from_gravity): roll and pitch from the
+  // specific force, heading 0, position 0. False unless |a| is within the
+  // accelerometer gate of g (or finite, with the gate off).
+  bool InitializeFromGravity(double stamp_s, const Eigen::Vector3d& accel_camera_m_s2);
+  void Reset() { initialized_ = false; }
+  bool initialized() const { return initialized_; }
+
+  // Time update ((5.20), and (5.14) with F (5.22) and Q (5.23)) to stamp_s;
+  // gaps longer than max_predict_step_s are sub-stepped. A stamp before the
+  // current one is ignored (the buffer rewinds).
+  void Predict(double stamp_s);
+
+  // Measurement updates (5.15) (5.16) (5.17) of the camera (5.24), gyro (5.27)
+  // and accelerometer (5.30) at the current time. nis, if given, receives the
+  // normalised innovation squared yᵀ S⁻¹ y. A camera pose outside the
+  // chi-square gate (EkfConfig::camera_gate_chi2) returns kGated and
+  // leaves the state alone; gate_chi2, if given, receives its statistic (the
+  // squared Mahalanobis distance on 6 dof, see CameraGateStatistic).
+  UpdateResult UpdateCamera(const CameraMeasurement& m, double* nis = nullptr, double* gate_chi2 = nullptr);
+  UpdateResult UpdateGyro(const ImuMeasurement& m, double* nis = nullptr);
+  UpdateResult UpdateAccel(const ImuMeasurement& m, double* nis = nullptr);
+
+  // The camera gate's threshold on the 6-dof statistic (infinite when off).
+  double camera_gate_chi2() const { return camera_gate_chi2_; }
+  static constexpr int kCameraGateDof = 6;  // 3 rotation + 3 position
+
+  const FilterState& state() const { return s_; }
+  void Restore(const FilterState& s) { s_ = s; }
+
+  // Camera in cones, T_cones_camera, with its 7x7 (q, p) covariance.
+  pose_math::PoseWithCovariance Pose() const;
+  Eigen::Vector3d omega_camera_rad_s() const { return s_.x.segment<3>(kW); }
+  Eigen::Vector3d v_cones_m_s() const { return s_.x.segment<3>(kV); }
+  Eigen::Vector3d gyro_bias_rad_s() const;
+
+ private:
+  template <int M>
+  UpdateResult Update(const Eigen::Matrix<double, M, 1>& residual,
+                      const Eigen::Matrix<double, M, Eigen::Dynamic, 0, M, kMaxStates>& H,
+                      const Eigen::Matrix<double, M, M>& R, double* nis);
+  void PredictStep(double dt_s);
+  void InitializeUnmeasured(int n);
+
+  EkfConfig config_;
+  double camera_gate_chi2_ = 0.0;  // config_.camera_gate_chi2, infinite when off
+  FilterState s_;
+  bool initialized_ = false;
+};
+
+}  // namespace pose_ekf

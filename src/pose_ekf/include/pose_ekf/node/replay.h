@@ -1,0 +1,30 @@
+// ekf_replay: runs the filter over a bag as fast as possible and writes the
+// camera-in-cones trajectory in TUM format (t x y z qx qy qz qw).
+#pragma once
+
+#include <iosfwd>
+#include <string>
+
+#include "pose_ekf/node/node_config.h"
+
+namespace pose_ekf {
+
+struct ReplayOptions {
+  std::string bag_path;
+  std::string output_path;
+  std::string camera_topic = "cone_tracker/pose";
+  std::string imu_topic = "imu/data_raw";
+  NodeConfig config;
+};
+
+struct ReplaySummary {
+  size_t camera_messages = 0, imu_messages = 0, poses_written = 0;
+  size_t camera_gated = 0, reinits = 0;  // the chi-square gate on camera poses
+  bool orientation_only = false;         // no camera messages: gyro + gravity updates
+  std::string imu_rotation_source;
+};
+
+// Throws std::runtime_error on unreadable bags or unwritable output.
+ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log);
+
+}  // namespace pose_ekf

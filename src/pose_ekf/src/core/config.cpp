@@ -1,0 +1,48 @@
+#include <cmath>
+#include <sstream>
+
+#include "pose_ekf/core/config.h"
+
+namespace pose_ekf {
+namespace {
+
+// Appends "name must be ..." when value is not finite or not in its range.
+void Check(std::ostringstream& err, const char* name, double value, double min, bool min_inclusive) {
+  const bool ok = std::isfinite(value) && (min_inclusive ? value >= min : value > min);
+  if (!ok) err << name << " must be " << (min_inclusive ? ">= " : "> ") << min << " (got " << value << "); ";
+}
+
+}  // namespace
+
+std::string EkfConfig::Validate() const {
+  std::ostringstream err;
+  Check(err, "sigma_q_per_sqrt_s", sigma_q_per_sqrt_s, 0.0, false);
+  Check(err, "sigma_omega_rad_s_per_sqrt_s", sigma_omega_rad_s_per_sqrt_s, 0.0, false);
+  Check(err, "sigma_p_m_per_sqrt_s", sigma_p_m_per_sqrt_s, 0.0, true);
+  Check(err, "sigma_v_m_s_per_sqrt_s", sigma_v_m_s_per_sqrt_s, 0.0, true);
+  Check(err, "sigma_a_m_s2_per_sqrt_s", sigma_a_m_s2_per_sqrt_s, 0.0, false);
+  Check(err, "sigma_gyro_bias_rad_s_per_sqrt_s", sigma_gyro_bias_rad_s_per_sqrt_s, 0.0, true);
+  Check(err, "sigma_gyro_rad_s", sigma_gyro_rad_s, 0.0, false);
+  Check(err, "sigma_accel_m_s2", sigma_accel_m_s2, 0.0, false);
+  Check(err, "gravity_m_s2", gravity_m_s2, 0.0, false);
+  if (!std::isfinite(accel_gate_m_s2)) err << "accel_gate_m_s2 must be finite; ";
+  Check(err, "init_sigma_omega_rad_s", init_sigma_omega_rad_s, 0.0, false);
+  Check(err, "init_sigma_v_m_s", init_sigma_v_m_s, 0.0, false);
+  Check(err, "init_sigma_a_m_s2", init_sigma_a_m_s2, 0.0, false);
+  Check(err, "init_sigma_gyro_bias_rad_s", init_sigma_gyro_bias_rad_s, 0.0, false);
+  Check(err, "init_sigma_tilt_rad", init_sigma_tilt_rad, 0.0, false);
+  Check(err, "init_sigma_heading_rad", init_sigma_heading_rad, 0.0, false);
+  Check(err, "init_sigma_p_m", init_sigma_p_m, 0.0, false);
+  Check(err, "max_delay_s", max_delay_s, 0.0, true);
+  Check(err, "time_jump_reset_s", time_jump_reset_s, 0.0, false);
+  Check(err, "max_predict_step_s", max_predict_step_s, 0.0, false);
+  if (!(camera_gate_chi2 >= 0.0 && std::isfinite(camera_gate_chi2))) {
+    err << "camera_gate_chi2 must be finite and >= 0, 0 disables the gate (got " << camera_gate_chi2 << "); ";
+  }
+  if (reinit_after_rejections < 0) {
+    err << "reinit_after_rejections must be >= 0, 0 never re-initialises (got " << reinit_after_rejections << "); ";
+  }
+  return err.str();
+}
+
+}  // namespace pose_ekf

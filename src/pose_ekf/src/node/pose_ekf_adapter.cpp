@@ -1,0 +1,202 @@
+#include "pose_ekf/node/pose_ekf_adapter.h"
+
+#include <ros/time.h>
+
+#include <cmath>
+#include <sstream>
+
+#include "pose_math/covariance.h"
+#include "pose_math/rotation.h"
+
+namespace pose_ekf {
+namespace {
+
+template <size_t N>
+Eigen::Matrix<double, N, N> ToMatrix(const boost::array<double, N * N>& a) {
+  return Eigen::Map<const Eigen::Matrix<double, N, N, Eigen::RowMajor>>(a.data());
+}
+
+template <size_t N>
+void FromMatrix(const Eigen::Matrix<double, N, N>& m, boost::array<double, N * N>* a) {
+  Eigen::Map<Eigen::Matrix<double, N, N, Eigen::RowMajor>>(a->data()) = m;
+}
+
+Eigen::Vector3d ToVector(const geometry_msgs::Vector3& v) { return {v.x, v.y, v.z}; }
+
+}  // namespace
+
+bool QuaternionFarFromUnit(const geometry_msgs::Quaternion& q) {
+  const double norm2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
+  return !(std::abs(norm2 - 1.0) <= kQuaternionNorm2Tolerance);
+}
+
+ConversionResult CameraFromMsg(const geometry_msgs::PoseWithCovarianceStamped& msg, const std::string& cones_frame,
+                               CameraMeasurement* out, std::string* why) {
+  const std::string topic = kCameraTopic;
+  if (msg.header.frame_id != cones_frame) {
+    *why = topic + ": header.frame_id is '" + msg.header.frame_id + "', expected '" + cones_frame + "'";
+    return ConversionResult::kInvalid;
+  }
+  const auto& p = msg.pose.pose;
+  out->stamp_s = msg.header.stamp.toSec();
+  const pose_math::Quat q(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z);
+  out->T_cones_camera.t = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
+  const Eigen::Matrix<double, 6, 6> cov6 = ToMatrix<6>(msg.pose.covariance);
+  const char* non_finite = !q.allFinite()                       ? "pose.pose.orientation"
+                           : !out->T_cones_camera.t.allFinite() ? "pose.pose.position"
+                           : !cov6.allFinite()                  ? "pose.covariance"
+                                                                : nullptr;
+  if (non_finite) {
+    *why = topic + ": " + non_finite + " is not finite";
+    return ConversionResult::kNonFinite;
+  }
+  const double norm = q.norm();
+  if (norm < 1e-6) {
+    *why = topic + ": pose.pose.orientation is zero (|q| = " + std::to_string(norm) + "), no rotation";
+    return ConversionResult::kInvalid;
+  }
+  if (cov6.diagonal().minCoeff() <= 0.0) {
+    *why = topic + ": pose.covariance has a non-positive diagonal entry";
+    return ConversionResult::kInvalid;
+  }
+  out->T_cones_camera.q = q / norm;  // any norm means a rotation; far from 1 is counted by the caller
+  out->cov = pose_math::CovarianceThesisFromRos(out->T_cones_camera.q, cov6);  // the 5.6.4 form
+  return ConversionResult::kOk;
+}
+
+ConversionResult ImuFromMsg(const sensor_msgs::Imu& msg, const Eigen::Quaterniond& q_camera_imu, ImuMeasurement* out,
+                            std::string* why) {
+  const Eigen::Matrix3d R = q_camera_imu.toRotationMatrix();
+  out->stamp_s = msg.header.stamp.toSec();
+  out->has_gyro = msg.angular_velocity_covariance[0] != -1.0;
+  out->has_accel = msg.linear_acceleration_covariance[0] != -1.0;
+  if (!out->has_gyro && !out->has_accel) {
+    *why = "IMU message has neither angular velocity nor linear acceleration (both covariances -1)";
+    return ConversionResult::kInvalid;
+  }
+  // Into the camera frame, origins coincident (3.26).
+  out->omega_camera_rad_s = R * ToVector(msg.angular_velocity);
+  out->accel_camera_m_s2 = R * ToVector(msg.linear_acceleration);
+  const Eigen::Matrix3d gyro_cov = ToMatrix<3>(msg.angular_velocity_covariance);
+  const Eigen::Matrix3d accel_cov = ToMatrix<3>(msg.linear_acceleration_covariance);
+  out->has_covariance = out->has_gyro && out->has_accel && !gyro_cov.isZero(0.0) && !accel_cov.isZero(0.0);
+  if (out->has_covariance) {
+    out->gyro_cov = R * gyro_cov * R.transpose();
+    out->accel_cov = R * accel_cov * R.transpose();
+  }
+  return ConversionResult::kOk;  // non-finite values are caught and counted by the buffer
+}
+
+PoseEkfAdapter::PoseEkfAdapter(const NodeConfig& config) : config_(config), buffer_(config.ekf) {}
+
+void PoseEkfAdapter::Reconfigure(const EkfConfig& ekf) {
+  buffer_.SetConfig(ekf);
+  config_.ekf = ekf;
+}
+
+AddResult PoseEkfAdapter::Count(ConversionResult r) {
+  if (r == ConversionResult::kNonFinite) {
+    ++nan_rejected_;
+    return AddResult::kRejectedNonFinite;
+  }
+  ++invalid_rejected_;
+  return AddResult::kRejectedInvalid;
+}
+
+AddResult PoseEkfAdapter::HandleCamera(const geometry_msgs::PoseWithCovarianceStamped& msg, std::string* why) {
+  CameraMeasurement m;
+  const ConversionResult c = CameraFromMsg(msg, config_.cones_frame, &m, why);
+  if (c != ConversionResult::kOk) {
+    ++camera_rejected_;
+    return Count(c);
+  }
+  if (QuaternionFarFromUnit(msg.pose.pose.orientation)) ++camera_quaternions_normalized_;
+  const AddResult r = buffer_.AddCamera(m);
+  const std::string topic = kCameraTopic;
+  if (r == AddResult::kRejectedNonFinite) *why = topic + ": header.stamp not finite";
+  if (r == AddResult::kDroppedLate) *why = topic + ": camera pose older than max_delay_s";
+  if (r == AddResult::kGated || r == AddResult::kReinitialized) {
+    const BufferCounters& n = buffer_.counters();
+    std::ostringstream s;
+    s << topic << ": camera pose outside the chi-square gate (" << n.camera_gate_last_rejected_chi2 << " > "
+      << buffer_.filter().camera_gate_chi2() << ", " << EkfCore::kCameraGateDof << " dof)";
+    if (r == AddResult::kReinitialized) {
+      s << "; " << config_.ekf.reinit_after_rejections
+        << " in a row (reinit_after_rejections): the filter re-initialised from this pose";
+    }
+    *why = s.str();
+  }
+  return r;
+}
+
+AddResult PoseEkfAdapter::HandleImu(const sensor_msgs::Imu& msg, const Eigen::Quaterniond& q_camera_imu,
+                                    std::string* why) {
+  ImuMeasurement m;
+  const ConversionResult c = ImuFromMsg(msg, q_camera_imu, &m, why);
+  if (c != ConversionResult::kOk) return Count(c);
+  const AddResult r = buffer_.AddImu(m);
+  if (r == AddResult::kRejectedNonFinite) *why = "IMU sample not finite";
+  if (r == AddResult::kDroppedLate) *why = "IMU sample older than max_delay_s";
+  return r;
+}
+
+bool PoseEkfAdapter::MakeOutputs(AdapterOutputs* out) const { return FillOutputs(buffer_.filter(), out); }
+
+bool PoseEkfAdapter::MakePredictedOutputs(double stamp_s, AdapterOutputs* out) const {
+  EkfCore copy = buffer_.filter();
+  copy.Predict(stamp_s);
+  return FillOutputs(copy, out);
+}
+
+bool PoseEkfAdapter::FillOutputs(const EkfCore& filter, AdapterOutputs* out) const {
+  if (!filter.initialized()) return false;
+  const pose_math::PoseWithCovariance T = filter.Pose();
+  const pose_math::Quat q = T.pose.q.normalized();
+  ros::Time stamp;
+  stamp.fromSec(filter.state().stamp_s);
+
+  auto& pose = out->pose;
+  pose.header.stamp = stamp;
+  pose.header.frame_id = config_.cones_frame;
+  pose.pose.pose.position.x = T.pose.t.x();
+  pose.pose.pose.position.y = T.pose.t.y();
+  pose.pose.pose.position.z = T.pose.t.z();
+  pose.pose.pose.orientation.w = q[0];
+  pose.pose.pose.orientation.x = q[1];
+  pose.pose.pose.orientation.y = q[2];
+  pose.pose.pose.orientation.z = q[3];
+  FromMatrix<6>(pose_math::CovarianceRosFromThesis(q, T.cov), &pose.pose.covariance);
+
+  // Odometry: twist in the child (camera) frame, as nav_msgs/Odometry specifies.
+  auto& odom = out->odometry;
+  odom.header = pose.header;
+  odom.child_frame_id = config_.camera_frame;
+  odom.pose = pose.pose;
+  const Eigen::Matrix3d R_cones_camera = pose_math::RotationFromQuat(q);
+  const Eigen::Vector3d v_camera = R_cones_camera.transpose() * filter.v_cones_m_s();
+  const Eigen::Vector3d w_camera = filter.omega_camera_rad_s();
+  odom.twist.twist.linear.x = v_camera.x();
+  odom.twist.twist.linear.y = v_camera.y();
+  odom.twist.twist.linear.z = v_camera.z();
+  odom.twist.twist.angular.x = w_camera.x();
+  odom.twist.twist.angular.y = w_camera.y();
+  odom.twist.twist.angular.z = w_camera.z();
+  const StateMatrix& P = filter.state().P;
+  Eigen::Matrix<double, 6, 6> twist_cov;
+  twist_cov.topLeftCorner<3, 3>() = R_cones_camera.transpose() * P.block<3, 3>(kV, kV) * R_cones_camera;
+  twist_cov.topRightCorner<3, 3>() = R_cones_camera.transpose() * P.block<3, 3>(kV, kW);
+  twist_cov.bottomLeftCorner<3, 3>() = twist_cov.topRightCorner<3, 3>().transpose();
+  twist_cov.bottomRightCorner<3, 3>() = P.block<3, 3>(kW, kW);
+  FromMatrix<6>(twist_cov, &odom.twist.covariance);
+
+  auto& tf = out->tf;
+  tf.header = pose.header;
+  tf.child_frame_id = config_.camera_frame;
+  tf.transform.translation.x = T.pose.t.x();
+  tf.transform.translation.y = T.pose.t.y();
+  tf.transform.translation.z = T.pose.t.z();
+  tf.transform.rotation = pose.pose.pose.orientation;
+  return true;
+}
+
+}  // namespace pose_ekf

@@ -1,0 +1,292 @@
+// The pose_ekf nodelet: subscriptions, tf, publishers, diagnostics and
+// dynamic_reconfigure around PoseEkfAdapter. All callbacks run on the
+// nodelet's single-threaded queue, so no locking.
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <dynamic_reconfigure/server.h>
+#include <nodelet/nodelet.h>
+#include <ros/ros.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
+#include <pluginlib/class_list_macros.hpp>
+
+#include <map>
+#include <memory>
+
+#include "pose_ekf/PoseEkfConfig.h"
+#include "pose_ekf/node/pose_ekf_adapter.h"
+#include "rig_model/ros/diagnostics.h"
+
+namespace pose_ekf {
+
+class PoseEkfNodelet : public nodelet::Nodelet {
+ private:
+  void onInit() override;
+  void OnCamera(const geometry_msgs::PoseWithCovarianceStampedConstPtr& msg);
+  void OnImu(const sensor_msgs::ImuConstPtr& msg);
+  void OnOutputTimer(const ros::TimerEvent& event);
+  void OnReconfigure(PoseEkfConfig& cfg, uint32_t level);
+  bool ImuRotation(const std::string& imu_frame, Eigen::Quaterniond* q_camera_imu);
+  void CheckTimeJump();
+  void Report(AddResult r, const std::string& why, const char* what);
+  void Publish();
+  void Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
+
+  std::unique_ptr<PoseEkfAdapter> adapter_;
+  ros::Subscriber camera_sub_, imu_sub_;
+  ros::Publisher pose_pub_, odom_pub_;
+  ros::Timer output_timer_;
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  std::unique_ptr<tf2_ros::TransformBroadcaster> tf_broadcaster_;
+  std::map<std::string, Eigen::Quaterniond> imu_rotations_;  // static camera-IMU rotation per IMU frame
+  std::unique_ptr<rig_model::WallDiagnostics> diagnostics_;  // first: a refused config is published too
+  std::unique_ptr<rig_model::StampRateTask> imu_freq_, camera_freq_;
+  boost::recursive_mutex reconfigure_mutex_;  // lets updateConfig() seed the server safely
+  std::unique_ptr<dynamic_reconfigure::Server<PoseEkfConfig>> reconfigure_;
+  ros::Time last_now_;
+  double last_published_stamp_s_ = -1.0;
+  uint64_t imu_without_tf_ = 0, imu_without_tf_reported_ = 0;
+  uint64_t time_jumps_back_ = 0;  // ROS time or a message stamp: each one reset the filter
+  std::string imu_tf_error_;      // why the last IMU sample had no camera-IMU rotation
+};
+
+void PoseEkfNodelet::onInit() {
+  ros::NodeHandle& nh = getNodeHandle();
+  ros::NodeHandle& pnh = getPrivateNodeHandle();
+  diagnostics_ = std::make_unique<rig_model::WallDiagnostics>(nh, pnh, getName(), "pose_ekf");
+  NodeConfig config;
+  try {
+    config = LoadConfig(pnh);
+  } catch (const std::exception& e) {
+    NODELET_FATAL(
+        "%s", diagnostics_->RefuseConfig("filter", "pose_ekf", std::string("invalid parameter: ") + e.what()).c_str());
+    return;
+  }
+  adapter_ = std::make_unique<PoseEkfAdapter>(config);
+  tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
+  tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
+  tf_broadcaster_ = std::make_unique<tf2_ros::TransformBroadcaster>();
+
+  rig_model::RateCheckConfig imu_rate = rig_model::RateCheckConfig::Around(config.imu_expected_rate_hz, 0.2);
+  imu_freq_ = std::make_unique<rig_model::StampRateTask>("imu input", imu_rate);
+  rig_model::RateCheckConfig camera_rate = rig_model::RateCheckConfig::Around(config.camera_expected_rate_hz, 0.5);
+  camera_rate.stale_level = diagnostic_msgs::DiagnosticStatus::WARN;  // no cones in view: the IMU carries on
+  camera_freq_ = std::make_unique<rig_model::StampRateTask>("camera input", camera_rate);
+  diagnostics_->Add(*imu_freq_);
+  diagnostics_->Add(*camera_freq_);
+  diagnostics_->Add("filter", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { Diagnose(s); });
+
+  pose_pub_ = nh.advertise<geometry_msgs::PoseWithCovarianceStamped>("pose_ekf/pose", 10);
+  odom_pub_ = nh.advertise<nav_msgs::Odometry>("pose_ekf/odometry", 10);
+  camera_sub_ = nh.subscribe("cone_tracker/pose", 10, &PoseEkfNodelet::OnCamera, this);
+  imu_sub_ = nh.subscribe("imu/data_raw", 200, &PoseEkfNodelet::OnImu, this);
+  if (config.output_rate_hz > 0.0) {
+    output_timer_ = nh.createTimer(ros::Duration(1.0 / config.output_rate_hz), &PoseEkfNodelet::OnOutputTimer, this);
+  }
+
+  reconfigure_ = std::make_unique<dynamic_reconfigure::Server<PoseEkfConfig>>(reconfigure_mutex_, pnh);
+  PoseEkfConfig current;  // start from the loaded parameters, not the .cfg defaults
+  const EkfConfig& e = config.ekf;
+  current.sigma_q_per_sqrt_s = e.sigma_q_per_sqrt_s;
+  current.sigma_omega_rad_s_per_sqrt_s = e.sigma_omega_rad_s_per_sqrt_s;
+  current.sigma_p_m_per_sqrt_s = e.sigma_p_m_per_sqrt_s;
+  current.sigma_v_m_s_per_sqrt_s = e.sigma_v_m_s_per_sqrt_s;
+  current.sigma_a_m_s2_per_sqrt_s = e.sigma_a_m_s2_per_sqrt_s;
+  current.sigma_gyro_bias_rad_s_per_sqrt_s = e.sigma_gyro_bias_rad_s_per_sqrt_s;
+  current.sigma_gyro_rad_s = e.sigma_gyro_rad_s;
+  current.sigma_accel_m_s2 = e.sigma_accel_m_s2;
+  current.accel_gate_m_s2 = e.accel_gate_m_s2;
+  current.camera_gate_chi2 = e.camera_gate_chi2;
+  current.reinit_after_rejections = e.reinit_after_rejections;
+  current.use_camera = e.use_camera;
+  current.use_gyro = e.use_gyro;
+  current.use_accel = e.accel_mode != AccelMode::kOff;
+  current.joseph_update = e.joseph_update;
+  reconfigure_->updateConfig(current);
+  reconfigure_->setCallback([this](PoseEkfConfig& cfg, uint32_t level) { OnReconfigure(cfg, level); });
+  last_now_ = ros::Time::now();
+  NODELET_INFO("pose_ekf: fusing cone_tracker/pose and imu/data_raw into tf %s -> %s", config.cones_frame.c_str(),
+               config.camera_frame.c_str());
+}
+
+void PoseEkfNodelet::OnReconfigure(PoseEkfConfig& cfg, uint32_t /*level*/) {
+  EkfConfig e = adapter_->config().ekf;
+  e.sigma_q_per_sqrt_s = cfg.sigma_q_per_sqrt_s;
+  e.sigma_omega_rad_s_per_sqrt_s = cfg.sigma_omega_rad_s_per_sqrt_s;
+  e.sigma_p_m_per_sqrt_s = cfg.sigma_p_m_per_sqrt_s;
+  e.sigma_v_m_s_per_sqrt_s = cfg.sigma_v_m_s_per_sqrt_s;
+  e.sigma_a_m_s2_per_sqrt_s = cfg.sigma_a_m_s2_per_sqrt_s;
+  e.sigma_gyro_bias_rad_s_per_sqrt_s = cfg.sigma_gyro_bias_rad_s_per_sqrt_s;
+  e.sigma_gyro_rad_s = cfg.sigma_gyro_rad_s;
+  e.sigma_accel_m_s2 = cfg.sigma_accel_m_s2;
+  e.accel_gate_m_s2 = cfg.accel_gate_m_s2;
+  e.camera_gate_chi2 = cfg.camera_gate_chi2;
+  e.reinit_after_rejections = cfg.reinit_after_rejections;
+  e.use_camera = cfg.use_camera;
+  e.use_gyro = cfg.use_gyro;
+  e.accel_mode = cfg.use_accel ? adapter_->config().accel_mode_when_on : AccelMode::kOff;
+  e.joseph_update = cfg.joseph_update;
+  try {
+    adapter_->Reconfigure(e);
+  } catch (const std::exception& ex) {
+    NODELET_WARN("pose_ekf: reconfigure refused: %s", ex.what());
+  }
+}
+
+// ROS time going backwards (bag loop with /use_sim_time, simulator reset): clear with one warning.
+void PoseEkfNodelet::CheckTimeJump() {
+  const ros::Time now = ros::Time::now();
+  if (now < last_now_) {
+    NODELET_WARN("pose_ekf: ROS time jumped back by %.3f s; resetting the filter", (last_now_ - now).toSec());
+    ++time_jumps_back_;
+    adapter_->Reset();
+    adapter_->buffer().TakeResetWarning();
+    imu_rotations_.clear();
+    tf_buffer_->clear();
+    last_published_stamp_s_ = -1.0;
+  }
+  last_now_ = now;
+}
+
+void PoseEkfNodelet::Report(AddResult r, const std::string& why, const char* what) {
+  if (adapter_->buffer().TakeResetWarning()) {
+    NODELET_WARN("pose_ekf: %s stamp jumped back by more than time_jump_reset_s; filter reset", what);
+    ++time_jumps_back_;
+    last_published_stamp_s_ = -1.0;
+  }
+  if (r == AddResult::kRejectedNonFinite || r == AddResult::kRejectedInvalid || r == AddResult::kDroppedLate) {
+    NODELET_WARN_THROTTLE(1.0, "pose_ekf: %s %s: %s", what, ToString(r), why.c_str());
+  }
+  if (r == AddResult::kReinitialized) NODELET_WARN("pose_ekf: %s", why.c_str());  // once per re-initialisation
+}
+
+void PoseEkfNodelet::OnCamera(const geometry_msgs::PoseWithCovarianceStampedConstPtr& msg) {
+  try {
+    CheckTimeJump();
+    camera_freq_->Tick(msg->header.stamp);
+    std::string why;
+    const AddResult r = adapter_->HandleCamera(*msg, &why);
+    Report(r, why, "camera pose");
+    if (r == AddResult::kInitialized) NODELET_INFO("pose_ekf: initialised from the first camera pose");
+    if (r == AddResult::kInitialized || r == AddResult::kReinitialized || r == AddResult::kApplied ||
+        r == AddResult::kReplayed) {
+      Publish();
+    }
+  } catch (const std::exception& e) {
+    NODELET_WARN_THROTTLE(1.0, "pose_ekf: camera callback failed: %s", e.what());
+  }
+}
+
+void PoseEkfNodelet::OnImu(const sensor_msgs::ImuConstPtr& msg) {
+  try {
+    CheckTimeJump();
+    imu_freq_->Tick(msg->header.stamp);
+    Eigen::Quaterniond q_camera_imu;
+    if (!ImuRotation(msg->header.frame_id, &q_camera_imu)) {
+      ++imu_without_tf_;
+      return;
+    }
+    std::string why;
+    const AddResult r = adapter_->HandleImu(*msg, q_camera_imu, &why);
+    Report(r, why, "IMU sample");
+    if (r == AddResult::kApplied || r == AddResult::kReplayed) Publish();
+  } catch (const std::exception& e) {
+    NODELET_WARN_THROTTLE(1.0, "pose_ekf: IMU callback failed: %s", e.what());
+  }
+}
+
+// The camera-IMU rotation is a static transform (3.2.2): looked up once per IMU frame.
+bool PoseEkfNodelet::ImuRotation(const std::string& imu_frame, Eigen::Quaterniond* q) {
+  const std::string& camera_frame = adapter_->config().camera_frame;
+  if (imu_frame.empty()) {
+    imu_tf_error_ = "IMU message without frame_id";
+    NODELET_WARN_THROTTLE(5.0, "pose_ekf: IMU message without frame_id (REP-145 needs it): not used");
+    return false;
+  }
+  if (imu_frame == camera_frame) {
+    *q = Eigen::Quaterniond::Identity();
+    return true;
+  }
+  const auto it = imu_rotations_.find(imu_frame);
+  if (it != imu_rotations_.end()) {
+    *q = it->second;
+    return true;
+  }
+  try {
+    const auto tf = tf_buffer_->lookupTransform(camera_frame, imu_frame, ros::Time(0),
+                                                ros::Duration(adapter_->config().tf_timeout_s));
+    const auto& r = tf.transform.rotation;
+    *q = Eigen::Quaterniond(r.w, r.x, r.y, r.z).normalized();
+    imu_rotations_[imu_frame] = *q;
+    NODELET_INFO("pose_ekf: camera-IMU rotation %s <- %s found", camera_frame.c_str(), imu_frame.c_str());
+    return true;
+  } catch (const tf2::TransformException& e) {
+    imu_tf_error_ = "no tf " + camera_frame + " <- " + imu_frame + ": " + e.what();
+    NODELET_WARN_THROTTLE(2.0, "pose_ekf: no tf %s <- %s yet (IMU sample not used): %s", camera_frame.c_str(),
+                          imu_frame.c_str(), e.what());
+    return false;
+  }
+}
+
+void PoseEkfNodelet::Publish() {
+  AdapterOutputs out;
+  if (!adapter_->MakeOutputs(&out)) return;
+  const double stamp = out.pose.header.stamp.toSec();
+  if (stamp <= last_published_stamp_s_) return;  // a late camera frame re-applied in the past: nothing newer
+  last_published_stamp_s_ = stamp;
+  if (adapter_->config().publish_tf) tf_broadcaster_->sendTransform(out.tf);
+  pose_pub_.publish(boost::make_shared<geometry_msgs::PoseWithCovarianceStamped>(out.pose));
+  odom_pub_.publish(boost::make_shared<nav_msgs::Odometry>(out.odometry));
+}
+
+void PoseEkfNodelet::OnOutputTimer(const ros::TimerEvent& /*event*/) {
+  AdapterOutputs out;
+  const double now = ros::Time::now().toSec();
+  if (now <= last_published_stamp_s_ || !adapter_->MakePredictedOutputs(now, &out)) return;
+  last_published_stamp_s_ = now;
+  if (adapter_->config().publish_tf) tf_broadcaster_->sendTransform(out.tf);
+  pose_pub_.publish(boost::make_shared<geometry_msgs::PoseWithCovarianceStamped>(out.pose));
+  odom_pub_.publish(boost::make_shared<nav_msgs::Odometry>(out.odometry));
+}
+
+void PoseEkfNodelet::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  const BufferCounters& c = adapter_->buffer().counters();
+  if (imu_without_tf_ > imu_without_tf_reported_) {  // the IMU path is dead until the tf appears
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::ERROR, "%lu IMU sample(s) dropped since the last report: %s",
+                  static_cast<unsigned long>(imu_without_tf_ - imu_without_tf_reported_), imu_tf_error_.c_str());
+  } else if (!adapter_->buffer().filter().initialized()) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "waiting for the first camera pose");
+  } else if (adapter_->buffer().camera_gated_in_a_row() > 0) {
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "tracking; the last %d camera poses failed the chi2 gate",
+                  adapter_->buffer().camera_gated_in_a_row());
+  } else {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "tracking");
+  }
+  stat.add("camera updates", c.camera_applied);
+  stat.add("gyro updates", c.gyro_applied);
+  stat.add("accel updates", c.accel_applied);
+  stat.add("accel gated (|a| != g)", c.accel_gated);
+  stat.add("camera poses rejected (chi2 gate)", c.camera_gated);
+  stat.add("camera chi2 gate threshold (6 dof)", adapter_->buffer().filter().camera_gate_chi2());
+  stat.add("camera chi2 of the last rejected pose", c.camera_gate_last_rejected_chi2);
+  stat.add("re-initialisations (chi2 gate)", c.reinits);
+  stat.add("camera poses rejected (bad quaternion, position, covariance or frame)", adapter_->camera_rejected());
+  stat.add("camera quaternions normalised (| |q|^2 - 1 | > 0.01)", adapter_->camera_quaternions_normalized());
+  stat.add("dropped late", c.dropped_late);
+  stat.add("IMU before the first pose", c.imu_before_start);
+  stat.add("NaN rejected", c.nan_rejected + adapter_->nan_rejected());
+  stat.add("invalid rejected", adapter_->invalid_rejected());
+  imu_without_tf_reported_ = imu_without_tf_;
+  stat.add("IMU without camera-IMU tf", imu_without_tf_);
+  stat.add("time jumps back", time_jumps_back_);
+  stat.add("numerical failures", c.numerical_failures);
+  stat.add("resets", c.resets);
+  stat.add("late replays", c.replays);
+  stat.add("camera NIS last", c.camera_nis_last);
+  stat.add("camera NIS mean", c.camera_nis_count ? c.camera_nis_sum / c.camera_nis_count : 0.0);
+}
+
+}  // namespace pose_ekf
+
+PLUGINLIB_EXPORT_CLASS(pose_ekf::PoseEkfNodelet, nodelet::Nodelet)
