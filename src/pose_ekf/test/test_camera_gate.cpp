@@ -12,7 +12,7 @@
 #include "pose_ekf/core/measurement_buffer.h"
 #include "pose_math/covariance.h"
 #include "pose_math/rotation.h"
-#include "synthetic_rig.h"
+#include "pose_ekf/testing/synthetic_rig.h"
 
 namespace pose_ekf_test {
 namespace {
