@@ -128,8 +128,8 @@ NodeConfig LoadConfig(const ros::NodeHandle& nh) {
   Get(nh, "debug_draw_text", &c.debug.draw_text);
 
   Check(!c.layout_file.empty(),
-        "layout_file is required (a layout YAML in rig_sim's schema, e.g. "
-        "$(find rig_sim)/config/layouts/default.yaml)");
+        "layout_file is required (a layout YAML in rig_model's schema, e.g. "
+        "$(find rig_model)/config/layouts/default.yaml)");
   ValidateConfig(c);
   return c;
 }
