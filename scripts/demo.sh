@@ -68,7 +68,7 @@ INPUT="$OUT/.replay_input.bag"
 cp "$BAG" "$INPUT"
 rosbag decompress -q "$INPUT" >/dev/null
 rm -f "${INPUT%.bag}.orig.bag"
-replay "$INPUT" "$OUT" true "$(rospack find rig_sim)/config/layouts/default.yaml" "$(start_heading_deg "$INPUT")" \
+replay "$INPUT" "$OUT" true "$(rospack find rig_model)/config/layouts/default.yaml" "$(start_heading_deg "$INPUT")" \
   "$(basename "$BAG")"
 REPORT="$OUT/report.md"
 
@@ -79,7 +79,7 @@ REPORT="$OUT/report.md"
 if [[ "${DEMO_OUTAGE:-1}" == 1 ]]; then
   dir="$OUT/look_away"
   mkdir -p "$dir"
-  layout="$(rospack find ar_bringup)/config/layouts/asymmetric.yaml"
+  layout="$(rospack find rig_model)/config/layouts/asymmetric.yaml"
   make_bag_args=(--scenario look_away --seed 1 --duration 16 --scale 0.25 --layout "$layout")
   rosrun rig_sim make_bag "${make_bag_args[@]}" --output "$dir/.replay_input.bag" >/dev/null
   replay "$dir/.replay_input.bag" "$dir" false "$layout" nan "rig_sim look_away (make_bag ${make_bag_args[*]:0:8} --layout asymmetric.yaml)"

@@ -53,7 +53,7 @@ double MedianMs(int warmup, int runs, F&& f, double* cpu_ms = nullptr) {
 }
 
 // The baseline: project every vertex, sort triangles far to near, fill each.
-void SoftwareRender(const Mesh& m, float scale, const Eigen::Isometry3d& T_camera_model, const CameraIntrinsics& k,
+void SoftwareRender(const Mesh& m, float scale, const Eigen::Isometry3d& T_camera_model, const CameraModel& k,
                     cv::Mat& img) {
   cv::Mat R, rvec;
   cv::eigen2cv(Eigen::Matrix3d(T_camera_model.linear()), R);
@@ -100,8 +100,8 @@ void SoftwareRender(const Mesh& m, float scale, const Eigen::Isometry3d& T_camer
 }  // namespace
 
 int main() {
-  const CameraIntrinsics k{1024, 768, 800, 800, 511.5, 383.5, {-0.2, 0.05, 0.001, -0.001, 0}};
-  CameraIntrinsics pinhole = k;
+  const CameraModel k{1024, 768, 800, 800, 511.5, 383.5, {-0.2, 0.05, 0.001, -0.001, 0}};
+  CameraModel pinhole = k;
   pinhole.distortion.clear();
   const Mesh peaks = PeaksSurface(160);
   ModelSpec spec;

@@ -2,7 +2,6 @@
 // dots and the red dots drawn together, the red grid placed exactly between
 // the blue one or moved by a known amount on the platform.
 #include <gtest/gtest.h>
-#include <yaml-cpp/yaml.h>
 
 #include <cmath>
 
@@ -10,6 +9,7 @@
 #include "ar_overlay/core/overlay.h"
 #include "ar_overlay/core/platform_alignment.h"
 #include "ar_overlay/core/scene.h"
+#include "rig_model/layout.h"
 
 namespace ar_overlay {
 namespace {
@@ -18,7 +18,7 @@ const std::string kDir = AR_OVERLAY_DIR;
 
 // A frame of the platform seen obliquely through a distorted lens, image right
 // along the platform's +x; the red grid offset by (dx, dy) metres on the platform.
-cv::Mat PlatformFrame(const CameraIntrinsics& k, double dx_m, double dy_m,
+cv::Mat PlatformFrame(const CameraModel& k, double dx_m, double dy_m,
                       const Eigen::Vector3d& eye = Eigen::Vector3d(0.0, -0.6, 1.0)) {
   Overlay overlay;
   ModelSpec blue, red;
@@ -35,7 +35,7 @@ cv::Mat PlatformFrame(const CameraIntrinsics& k, double dx_m, double dy_m,
   return out;
 }
 
-const CameraIntrinsics kCamera{640, 480, 560, 560, 319.5, 239.5, {-0.2, 0.05, 0, 0, 0}};
+const CameraModel kCamera{640, 480, 560, 560, 319.5, 239.5, {-0.2, 0.05, 0, 0, 0}};
 
 TEST(PlatformAlignment, SegmentsEveryDotOfBothGrids) {
   const cv::Mat frame = PlatformFrame(kCamera, 0, 0);
@@ -57,7 +57,7 @@ TEST(PlatformAlignment, AlignedGridsGiveNoErrorAndAnOffsetIsMeasuredInInches) {
   EXPECT_NEAR(moved.mean_inch.y, 0.0, 0.04);
   EXPECT_GT(moved.mean_px.x, 3.0);
   // Without undoing the distortion the middle is wrong at the edges: the camera matters.
-  CameraIntrinsics pinhole = kCamera;
+  CameraModel pinhole = kCamera;
   pinhole.distortion.clear();
   const AlignmentStats raw = Summarize(MeasureAlignment(PlatformFrame(kCamera, 0, 0), pinhole, AlignmentConfig()));
   EXPECT_GT(std::max(raw.std_px.x, raw.std_px.y), aligned.std_px.x);
@@ -82,19 +82,21 @@ TEST(PlatformAlignment, AGridSeenInPartGivesNoMeasurement) {
   EXPECT_EQ(Summarize({}).dots, 0u);
 }
 
-TEST(PlatformAlignment, SceneMatchesRigSimPlatform) {
-  // The red grid of scene_platform.yaml sits between rig_sim's blue grid (layouts/platform.yaml).
-  const YAML::Node layout = YAML::LoadFile(kDir + "/../rig_sim/config/layouts/platform.yaml");
-  const YAML::Node p = layout["platforms"][0];
-  EXPECT_DOUBLE_EQ(p["spacing_m"].as<double>(), 0.1);
-  EXPECT_EQ(p["rows"].as<int>(), 5);
-  EXPECT_EQ(p["cols"].as<int>(), 5);
+TEST(PlatformAlignment, SceneMatchesTheLayoutsPlatform) {
+  // The red grid of scene_platform.yaml sits between the platform's blue grid (rig_model's
+  // layouts/platform.yaml, which rig_sim renders).
+  const rig_model::Layout layout = rig_model::LoadLayoutFile(kDir + "/../rig_model/config/layouts/platform.yaml");
+  ASSERT_EQ(layout.platforms.size(), 1u);
+  const rig_model::PlatformSpec& p = layout.platforms[0];
+  EXPECT_DOUBLE_EQ(p.spacing_m, 0.1);
+  EXPECT_EQ(p.rows, 5);
+  EXPECT_EQ(p.cols, 5);
   const auto specs = LoadSceneYaml(kDir + "/config/scene_platform.yaml");
   ASSERT_EQ(specs.size(), 1u);
   const Eigen::Vector3d t = specs[0].T_parent_origin.translation();
-  EXPECT_DOUBLE_EQ(t.x(), p["x_m"].as<double>());
-  EXPECT_DOUBLE_EQ(t.y(), p["y_m"].as<double>());
-  EXPECT_DOUBLE_EQ(t.z(), p["sz_m"].as<double>());  // on the board's top face
+  EXPECT_DOUBLE_EQ(t.x(), p.center_m.x());
+  EXPECT_DOUBLE_EQ(t.y(), p.center_m.y());
+  EXPECT_DOUBLE_EQ(t.z(), p.size_m.z());  // on the board's top face
 }
 
 }  // namespace

@@ -25,7 +25,7 @@ TEST(Projection, PixelCentreLandsOnPixelCentre) {
 }
 
 TEST(Projection, RejectsBadIntrinsics) {
-  CameraIntrinsics k{640, 480, 500, 500, 320, 240, {}};
+  CameraModel k{640, 480, 500, 500, 320, 240, {}};
   EXPECT_EQ(Validate(k), "");
   k.fx_px = 0;
   EXPECT_NE(Validate(k).find("fx"), std::string::npos);
@@ -37,7 +37,7 @@ TEST(Projection, RejectsBadIntrinsics) {
 }
 
 TEST(DistortionMap, IdentityWithoutDistortionAndCanvasCoversBarrel) {
-  CameraIntrinsics k{320, 240, 250, 250, 160, 120, {0, 0, 0, 0, 0}};
+  CameraModel k{320, 240, 250, 250, 160, 120, {0, 0, 0, 0, 0}};
   DistortionMap none(k);
   EXPECT_TRUE(none.identity());
   EXPECT_EQ(none.canvas_width(), 320);

@@ -14,7 +14,7 @@
 namespace ar_overlay {
 namespace {
 
-const CameraIntrinsics kCamera{1024, 768, 820.0, 818.0, 515.3, 380.7, {-0.28, 0.09, 0.0012, -0.0008, -0.012}};
+const CameraModel kCamera{1024, 768, 820.0, 818.0, 515.3, 380.7, {-0.28, 0.09, 0.0012, -0.0008, -0.012}};
 
 Eigen::Isometry3d TestPose() {  // T_camera_cones, away from identity
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();

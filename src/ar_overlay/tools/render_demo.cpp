@@ -17,7 +17,7 @@ using namespace ar_overlay;
 namespace {
 
 // A grey floor with a 0.1 m grid and the cones frame's x (red) and y (green) axes.
-cv::Mat Floor(const CameraIntrinsics& k, const Eigen::Isometry3d& T_camera_cones) {
+cv::Mat Floor(const CameraModel& k, const Eigen::Isometry3d& T_camera_cones) {
   cv::Mat img(k.height_px, k.width_px, CV_8UC3, cv::Scalar(90, 95, 100));
   cv::Mat R, rvec;
   cv::eigen2cv(Eigen::Matrix3d(T_camera_cones.linear()), R);
@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  const CameraIntrinsics k{1024, 768, 800, 800, 511.5, 383.5, {-0.2, 0.05, 0, 0, 0}};
+  const CameraModel k{1024, 768, 800, 800, 511.5, 383.5, {-0.2, 0.05, 0, 0, 0}};
   const Eigen::Isometry3d T_camera_cones = CameraLookAt(eye, Eigen::Vector3d(0, 0, 0.3)).inverse();
   try {
     Overlay overlay;

@@ -10,14 +10,14 @@
 #include <Eigen/Cholesky>
 
 #include "pose_math/rotation.h"
+#include "rig_model/ros/conversions.h"
 
 namespace cone_tracker {
 namespace {
 
 pose_math::Pose FromMsg(const geometry_msgs::Pose& p) {
-  pose_math::Pose T;
-  T.q = pose_math::Quat(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z).normalized();
-  T.t = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
+  pose_math::Pose T = rig_model::FromPoseMsg(p);
+  T.q = T.q.normalized();
   return T;
 }
 

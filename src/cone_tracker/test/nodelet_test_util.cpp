@@ -7,7 +7,7 @@
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <sensor_msgs/Image.h>
 
-#include "rig_sim/ros/messages.h"
+#include "rig_model/ros/conversions.h"
 
 namespace cone_tracker {
 
@@ -21,8 +21,8 @@ bool SpinUntil(const std::function<bool()>& done, double timeout_s) {
   return done();
 }
 
-sensor_msgs::CameraInfo CameraInfo(const rig_sim::CameraConfig& c) {
-  return rig_sim::MakeCameraInfo(c, ros::Time(), "camera_optical");
+sensor_msgs::CameraInfo CameraInfo(const rig_model::CameraModel& c) {
+  return rig_model::ToCameraInfo(c, ros::Time(), "camera_optical");
 }
 
 double TrackerStatus::Value(const std::string& key) const {

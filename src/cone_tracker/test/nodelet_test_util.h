@@ -12,14 +12,14 @@
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 
-#include "rig_sim/camera_model.h"
+#include "rig_model/camera_model.h"
 
 namespace cone_tracker {
 
 bool SpinUntil(const std::function<bool()>& done, double timeout_s);
 
-// The camera_info rig_sim publishes for this camera (plumb_bob).
-sensor_msgs::CameraInfo CameraInfo(const rig_sim::CameraConfig& camera);
+// The camera_info of this camera (rig_model_ros, as rig_sim publishes it).
+sensor_msgs::CameraInfo CameraInfo(const rig_model::CameraModel& camera);
 
 // The nodelet's "cone_tracker: tracker" diagnostic status.
 struct TrackerStatus {

@@ -6,29 +6,29 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "../bench/vision_frames.h"
 #include "cone_tracker/node/layout.h"
 #include "cone_tracker/node/tracker_adapter.h"
 #include "nodelet_test_util.h"
 #include "pose_math/covariance.h"
 #include "pose_math/rotation.h"
+#include "vision_frames.h"
 
 namespace cone_tracker {
 namespace {
 
-const rig_sim::CameraConfig kCamera = rig_sim::CameraConfig().Scaled(0.5);
+const CameraModel kCamera = rig_model::ThesisCamera().Scaled(0.5);
 const Eigen::Vector3d kEye(3.4, 0.6, 1.4), kTarget(0.0, 0.0, 0.3);
 
 std::vector<ConeModel> Layout() {
   std::vector<ConeModel> layout;
   std::string error;
-  EXPECT_TRUE(LoadLayoutFile(RIG_SIM_LAYOUTS_DIR "/default.yaml", &layout, &error)) << error;
+  EXPECT_TRUE(LoadLayoutFile(RIG_MODEL_LAYOUTS_DIR "/default.yaml", &layout, &error)) << error;
   return layout;
 }
 
 NodeConfig Config(double heading_prior_deg) {
   NodeConfig c;
-  c.layout_file = RIG_SIM_LAYOUTS_DIR "/default.yaml";
+  c.layout_file = RIG_MODEL_LAYOUTS_DIR "/default.yaml";
   c.heading_prior_deg = heading_prior_deg;
   c.pose.initial_heading_rad = heading_prior_deg * M_PI / 180.0;
   return c;

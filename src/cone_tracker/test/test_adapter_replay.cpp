@@ -23,7 +23,7 @@ constexpr double kHeadingPriorDeg = 60.0;
 
 NodeConfig DefaultConfig() {
   NodeConfig c;
-  c.layout_file = RIG_SIM_LAYOUTS_DIR "/default.yaml";
+  c.layout_file = RIG_MODEL_LAYOUTS_DIR "/default.yaml";
   c.heading_prior_deg = kHeadingPriorDeg;
   c.pose.initial_heading_rad = kHeadingPriorDeg * M_PI / 180.0;
   return c;
@@ -32,7 +32,7 @@ NodeConfig DefaultConfig() {
 std::vector<ConeModel> DefaultLayout() {
   std::vector<ConeModel> layout;
   std::string error;
-  EXPECT_TRUE(LoadLayoutFile(RIG_SIM_LAYOUTS_DIR "/default.yaml", &layout, &error)) << error;
+  EXPECT_TRUE(LoadLayoutFile(RIG_MODEL_LAYOUTS_DIR "/default.yaml", &layout, &error)) << error;
   return layout;
 }
 

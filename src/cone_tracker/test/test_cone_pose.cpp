@@ -4,10 +4,10 @@
 #include <cmath>
 #include <cstdio>
 
-#include "../bench/vision_frames.h"
 #include "cone_tracker/pose/algorithms.h"
 #include "cone_tracker/vision/cone_pose.h"
 #include "pose_math/rotation.h"
+#include "vision_frames.h"
 
 namespace cone_tracker {
 namespace {
@@ -35,8 +35,7 @@ Case Make(const rig_sim::Scene& scene, const Eigen::Vector3d& eye, const Eigen::
   c.frame = RenderSim(scene, LookAt(eye, target));
   Segmenter seg{SegmenterConfig()};
   const SimFrame& f = c.frame;
-  c.seg = seg.Process({f.rgb.data(), f.camera.width_px, f.camera.height_px, f.camera.width_px * 3, "rgb8"},
-                      ToCameraModel(f.camera));
+  c.seg = seg.Process({f.rgb.data(), f.camera.width_px, f.camera.height_px, f.camera.width_px * 3, "rgb8"}, f.camera);
   c.models = Models(scene);
   c.truth = TruthCameraCones(f.pose);
   return c;
@@ -76,8 +75,7 @@ TEST(ConePose, WithPredictionMatchesAndRecoversThePose) {
   ASSERT_EQ(c.seg.cones.size(), 3u);
   pose_math::Pose pred = c.truth;
   pred.t += Eigen::Vector3d(0.05, -0.03, 0.08);
-  const ConePoseResult r =
-      EstimateConePose(c.seg.cones, c.models, ToCameraModel(c.frame.camera), ConePoseConfig(), pred);
+  const ConePoseResult r = EstimateConePose(c.seg.cones, c.models, c.frame.camera, ConePoseConfig(), pred);
   ASSERT_TRUE(r.ok) << r.error << " chi2 " << r.chi2 << " > " << r.chi2_threshold;
   const double dp = PositionErrorM(r.pnp.T_camera_model, c.truth);
   const double dr = pose_math::RotationErrorRad(r.pnp.T_camera_model, c.truth) * 180.0 / M_PI;
@@ -90,7 +88,7 @@ TEST(ConePose, WithPredictionMatchesAndRecoversThePose) {
   far.t += Eigen::Vector3d(0.0, 0.0, 1.0);
   ConePoseConfig tight;
   tight.max_assignment_px = 400.0;
-  EXPECT_FALSE(EstimateConePose(c.seg.cones, c.models, ToCameraModel(c.frame.camera), tight, far).ok);
+  EXPECT_FALSE(EstimateConePose(c.seg.cones, c.models, c.frame.camera, tight, far).ok);
 }
 
 TEST(ConePose, WithoutPredictionAsymmetricLayoutAndGates) {
@@ -104,7 +102,7 @@ TEST(ConePose, WithoutPredictionAsymmetricLayoutAndGates) {
       << error;
   const Case c = Make(s, Eigen::Vector3d(0.54, 3.15, 1.5), Eigen::Vector3d(0, 0, 0.3));
   ASSERT_EQ(c.seg.cones.size(), 3u);
-  const CameraModel cam = ToCameraModel(c.frame.camera);
+  const CameraModel cam = c.frame.camera;
   const ConePoseResult r = EstimateConePose(c.seg.cones, c.models, cam, ConePoseConfig(), std::nullopt);
   ASSERT_TRUE(r.ok) << r.error << " chi2 " << r.chi2 << " > " << r.chi2_threshold;
   const double dp = PositionErrorM(r.pnp.T_camera_model, c.truth);
@@ -127,13 +125,12 @@ TEST(ConePose, SymmetricLayoutResolvedByTheHeadingPrior) {
   ASSERT_EQ(c.seg.cones.size(), 3u);
   ConePoseConfig cfg;
   cfg.initial_heading_rad = std::atan2(eye.y(), eye.x()) + 0.3;  // roughly right
-  const ConePoseResult r = EstimateConePose(c.seg.cones, c.models, ToCameraModel(c.frame.camera), cfg, std::nullopt);
+  const ConePoseResult r = EstimateConePose(c.seg.cones, c.models, c.frame.camera, cfg, std::nullopt);
   ASSERT_TRUE(r.ok) << r.error;
   EXPECT_LT(PositionErrorM(r.pnp.T_camera_model, c.truth), 0.05);
   // The prior 120 degrees off picks the rotated, equally good pose: the ambiguity is real.
   cfg.initial_heading_rad += 2.0 * M_PI / 3.0;
-  const ConePoseResult rotated =
-      EstimateConePose(c.seg.cones, c.models, ToCameraModel(c.frame.camera), cfg, std::nullopt);
+  const ConePoseResult rotated = EstimateConePose(c.seg.cones, c.models, c.frame.camera, cfg, std::nullopt);
   ASSERT_TRUE(rotated.ok);
   EXPECT_GT(PositionErrorM(rotated.pnp.T_camera_model, c.truth), 1.0);
   EXPECT_NEAR(rotated.pnp.reproj_rms_px, r.pnp.reproj_rms_px, 0.05);

@@ -1,4 +1,5 @@
-// The layout file: rig_sim's schema, limits, and clear messages on typos.
+// The layout file through rig_model's parser: the tracker's model points, its own cone limit, and
+// rig_model's messages (file, line, field) passed on.
 #include <gtest/gtest.h>
 
 #include <glob.h>
@@ -17,10 +18,10 @@ std::string ParseError(const std::string& text) {
 
 }  // namespace
 
-TEST(Layout, EveryRigSimLayoutLoads) {
+TEST(Layout, EveryShippedLayoutLoads) {
   glob_t g;
-  ASSERT_EQ(glob(RIG_SIM_LAYOUTS_DIR "/*.yaml", 0, nullptr, &g), 0);
-  ASSERT_GE(g.gl_pathc, 4u);
+  ASSERT_EQ(glob(RIG_MODEL_LAYOUTS_DIR "/*.yaml", 0, nullptr, &g), 0);
+  ASSERT_GE(g.gl_pathc, 6u);
   for (size_t i = 0; i < g.gl_pathc; ++i) {
     std::vector<ConeModel> cones;
     std::string error;
@@ -30,10 +31,10 @@ TEST(Layout, EveryRigSimLayoutLoads) {
   globfree(&g);
 }
 
-TEST(Layout, EquilateralMatchesRigSim) {
+TEST(Layout, EquilateralIsTheThesisTriangle) {
   std::vector<ConeModel> cones;
   std::string error;
-  ASSERT_TRUE(LoadLayoutFile(RIG_SIM_LAYOUTS_DIR "/default.yaml", &cones, &error)) << error;
+  ASSERT_TRUE(LoadLayoutFile(RIG_MODEL_LAYOUTS_DIR "/default.yaml", &cones, &error)) << error;
   ASSERT_EQ(cones.size(), 3u);
   const double r = 1.5 / std::sqrt(3.0);
   EXPECT_NEAR(cones[0].base_m.x(), r, 1e-12);  // cone 1 on +x
@@ -44,33 +45,39 @@ TEST(Layout, EquilateralMatchesRigSim) {
   EXPECT_DOUBLE_EQ(cones[2].height_m, 0.71);
   EXPECT_DOUBLE_EQ(cones[2].tau, 1.0 / 7.0);
   EXPECT_TRUE(LayoutHasRotationalSymmetry(cones));
+  const std::vector<ConeModel> built = ConeModels(rig_model::DefaultLayout());
+  for (size_t i = 0; i < 3; ++i) EXPECT_EQ(built[i].base_m, cones[i].base_m);  // one construction
 }
 
 TEST(Layout, ExplicitConesWithStackedCone) {
   std::vector<ConeModel> cones;
   std::string error;
-  ASSERT_TRUE(LoadLayoutFile(RIG_SIM_LAYOUTS_DIR "/stacked.yaml", &cones, &error)) << error;
+  ASSERT_TRUE(LoadLayoutFile(RIG_MODEL_LAYOUTS_DIR "/stacked.yaml", &cones, &error)) << error;
   ASSERT_EQ(cones.size(), 4u);
   EXPECT_DOUBLE_EQ(cones[3].base_m.z(), 0.12);
   EXPECT_DOUBLE_EQ(cones[1].height_m, 0.46);
   EXPECT_FALSE(LayoutHasRotationalSymmetry(cones));
 }
 
-TEST(Layout, ErrorsNameTheField) {
+TEST(Layout, ErrorsNameTheFileLineAndField) {
   EXPECT_NE(ParseError("cones:\n  - {x_m: 1.0, y_m: oops, height_m: 0.7}\n  - {x_m: 2}\n  - {x_m: 3}\n")
-                .find("cones[0].y_m must be a number"),
+                .find("layout test.yaml:2: cones[0].y_m: must be a number"),
             std::string::npos);
-  EXPECT_NE(ParseError("cones:\n  - {x_m: 1}\n  - {x_m: 2}\n").find("2 cones; 3 to 8"), std::string::npos);
+  // A misspelt key is refused, not replaced by the default height.
+  const std::string typo = ParseError("cones:\n  - {x_m: 1}\n  - {x_m: 2}\n  - {x_m: 3, hieght_m: 0.46}\n");
+  EXPECT_NE(typo.find("test.yaml:4: unknown key 'cones[2].hieght_m' (did you mean 'height_m'?)"), std::string::npos)
+      << typo;
+  EXPECT_NE(ParseError("cones:\n  - {x_m: 1}\n  - {x_m: 2}\n").find("2 cones; 3 to 30"), std::string::npos);
   std::string nine = "cones:\n";
   for (int i = 0; i < 9; ++i) nine += "  - {x_m: " + std::to_string(i) + "}\n";
-  EXPECT_NE(ParseError(nine).find("9 cones"), std::string::npos);
-  EXPECT_NE(ParseError("equilateral: {side_m: 1.5, height_m: 1.2}\n").find("height_m 1.2 is outside"),
+  EXPECT_NE(ParseError(nine).find("9 cones; the tracker matches at most 8"), std::string::npos);
+  EXPECT_NE(ParseError("equilateral: {side_m: 1.5, height_m: 1.2}\n").find("equilateral.height_m: 1.2 is outside"),
             std::string::npos);
-  EXPECT_NE(ParseError("equilateral: {side_m: 1.5, height_m: 0.05}\n").find("outside [0.1, 0.91]"), std::string::npos);
+  EXPECT_NE(ParseError("equilateral: {side_m: 1.5, height_m: 0.05}\n").find("outside [0.1, 0.92]"), std::string::npos);
   EXPECT_NE(ParseError("equilateral: {side_m: 1.5, style: stripy}\n").find("equilateral.style"), std::string::npos);
-  EXPECT_NE(ParseError("cone:\n  - {x_m: 1}\n").find("no cones"), std::string::npos);
-  EXPECT_NE(ParseError("cones: [1, 2, 3]\n").find("cones[0] must be a mapping"), std::string::npos);
-  EXPECT_NE(ParseError("cones: {x_m: 1}\n").find("cones must be a list"), std::string::npos);
+  EXPECT_NE(ParseError("cone:\n  - {x_m: 1}\n").find("unknown key 'cone' (did you mean 'cones'?)"), std::string::npos);
+  EXPECT_NE(ParseError("cones: [1, 2, 3]\n").find("cones[0]: must be a mapping"), std::string::npos);
+  EXPECT_NE(ParseError("cones: {x_m: 1}\n").find("cones: must be a list"), std::string::npos);
   EXPECT_NE(ParseError("equilateral: {side_m: 1.5\n").find("not valid YAML"), std::string::npos);
   EXPECT_NE(ParseError("cones:\n  - {x_m: 1}\n  - {x_m: 1}\n  - {x_m: 3}\n").find("identical"), std::string::npos);
   EXPECT_NE(ParseError("- 1\n- 2\n").find("mapping"), std::string::npos);
@@ -79,14 +86,14 @@ TEST(Layout, ErrorsNameTheField) {
   std::vector<ConeModel> cones;
   std::string error;
   EXPECT_FALSE(LoadLayoutFile("/nonexistent/layout.yaml", &cones, &error));
-  EXPECT_NE(error.find("/nonexistent/layout.yaml"), std::string::npos);
+  EXPECT_NE(error.find("/nonexistent/layout.yaml: cannot open"), std::string::npos) << error;
   EXPECT_TRUE(cones.empty());  // untouched on error
 }
 
 TEST(Layout, LimitsAreInclusive) {
   std::vector<ConeModel> cones;
   std::string error;
-  EXPECT_TRUE(ParseLayout("cones:\n  - {x_m: 1, height_m: 0.10}\n  - {x_m: 2, height_m: 0.91}\n  - {x_m: 3}\n", "t",
+  EXPECT_TRUE(ParseLayout("cones:\n  - {x_m: 1, height_m: 0.10}\n  - {x_m: 2, height_m: 0.92}\n  - {x_m: 3}\n", "t",
                           &cones, &error))
       << error;
   std::string eight = "cones:\n";

@@ -149,7 +149,7 @@ TEST(BadLayout, TheNodeletReportsTheFileAndField) {
   const TrackerStatus& s = rig.statuses[name];
   EXPECT_EQ(s.level, diagnostic_msgs::DiagnosticStatus::ERROR);
   EXPECT_NE(s.message.find("typo.yaml"), std::string::npos) << s.message;
-  EXPECT_NE(s.message.find("cones[1].height_m must be a number (line 5)"), std::string::npos) << s.message;
+  EXPECT_NE(s.message.find("typo.yaml:5: cones[1].height_m: must be a number"), std::string::npos) << s.message;
 }
 
 }  // namespace cone_tracker

@@ -13,14 +13,14 @@
 #include <tf2_msgs/TFMessage.h>
 #include <Eigen/Geometry>
 
-#include "../bench/vision_frames.h"
 #include "cone_tracker/ConeDetections.h"
 #include "nodelet_test_util.h"
+#include "vision_frames.h"
 
 namespace cone_tracker {
 namespace {
 
-const rig_sim::CameraConfig kCamera = rig_sim::CameraConfig().Scaled(0.5);
+const CameraModel kCamera = rig_model::ThesisCamera().Scaled(0.5);
 const Eigen::Vector3d kEye(3.4, 0.6, 1.4), kTarget(0.0, 0.0, 0.3);
 
 sensor_msgs::ImagePtr Frame(const rig_sim::Scene& scene, const rig_sim::TruePose& pose) {
@@ -129,7 +129,7 @@ TEST_F(BadInput, ConeCutByTheBorder) {
   // Turn the camera until the axis of the leftmost cone is on the image's left edge.
   const rig_sim::Scene scene = rig_sim::DefaultScene();
   const Eigen::Vector3d right = (kTarget - kEye).cross(Eigen::Vector3d::UnitZ()).normalized();
-  const rig_sim::CameraModel camera(kCamera);
+  const CameraModel& camera = kCamera;
   for (double shift = 0.0; shift < 4.0; shift += 0.01) {
     const rig_sim::TruePose pose = LookAt(kEye, kTarget + shift * right);  // turning right moves the cones left
     double min_u = 1e9, second_u = 1e9;
@@ -255,7 +255,7 @@ TEST_F(BadInput, TfPredictionAndMotionGate) {
   EXPECT_EQ(d->accepted_count, 3);
   // Each accepted blob carries the id of the cone whose peak projects onto it (the tf prediction fixes
   // the 120-degree ambiguity).
-  const rig_sim::CameraModel camera(kCamera);
+  const CameraModel& camera = kCamera;
   std::set<int> ids;
   for (int i = 0; i < d->accepted_count; ++i) {
     const DetectedCone& c = d->detections[size_t(i)];

@@ -45,7 +45,7 @@ struct Listener {
 TEST(NodeletReplay, HandheldSampleInLockstep) {
   std::vector<ConeModel> layout;
   std::string error;
-  ASSERT_TRUE(LoadLayoutFile(RIG_SIM_LAYOUTS_DIR "/default.yaml", &layout, &error)) << error;
+  ASSERT_TRUE(LoadLayoutFile(RIG_MODEL_LAYOUTS_DIR "/default.yaml", &layout, &error)) << error;
   const std::vector<BagFrame> frames = ReadBag(CONE_TRACKER_ROSBAGS_DIR "/handheld_sample.bag", layout, 6.0);
   ASSERT_EQ(frames.size(), 240u);
 

@@ -9,10 +9,10 @@
 
 #include <Eigen/Geometry>
 
-#include "../bench/vision_frames.h"
 #include "cone_tracker/vision/cone_pose.h"
 #include "cone_tracker/vision/segmenter.h"
 #include "pose_math/rotation.h"
+#include "vision_frames.h"
 
 namespace cone_tracker {
 namespace {
@@ -23,7 +23,7 @@ ImageView View(const SimFrame& f) {
 
 // Image bounding box of a cone (apex and base circle), raw pixels.
 Eigen::AlignedBox2d ConeBox(const SimFrame& f, const rig_sim::ConeSpec& c) {
-  const rig_sim::CameraModel cam(f.camera);
+  const CameraModel& cam = f.camera;
   const Eigen::Matrix3d R = f.pose.R_cones_camera.transpose();
   Eigen::AlignedBox2d box;
   auto add = [&](const Eigen::Vector3d& p) {
@@ -108,7 +108,7 @@ TEST(Refinement, OutlineBeatsTemplatesAndMeetsOnePixelOnRoadCones) {
   Errors eo, et, en;
   for (int i = 0; i < 40; ++i) {
     const SimFrame f = RenderSim(scene, RandomView(&rng));
-    const CameraModel cam = ToCameraModel(f.camera);
+    const CameraModel cam = f.camera;
     Score(f, scene, outline.Process(View(f), cam), &eo);
     Score(f, scene, templates.Process(View(f), cam), &et);
     Score(f, scene, none.Process(View(f), cam), &en);
@@ -167,7 +167,7 @@ TEST(Refinement, OverlappingConesAreGatedNotMismeasured) {
     // Behind cone 0, on the line through cones 1 and 0, shifted sideways.
     const Eigen::Vector3d eye = c0 + 2.2 * along + offset_m * across + Eigen::Vector3d(0, 0, 1.4);
     const SimFrame f = RenderSim(scene, LookAt(eye, 0.5 * (c0 + c1) + Eigen::Vector3d(0, 0, 0.3)));
-    const SegmentationResult r = seg.Process(View(f), ToCameraModel(f.camera));
+    const SegmentationResult r = seg.Process(View(f), f.camera);
     ASSERT_TRUE(r.ok);
     overlapping += ConeBox(f, scene.cones[0]).intersects(ConeBox(f, scene.cones[1]));
     for (const ConeDetection& d : r.rejected) gated += (d.failed_gates & kGateOutline) != 0;
@@ -181,7 +181,7 @@ TEST(Refinement, OverlappingConesAreGatedNotMismeasured) {
     }
     ConePoseConfig pose_cfg;  // the equilateral layout's 120-degree ambiguity is not what is tested here
     pose_cfg.initial_heading_rad = std::atan2(eye.y(), eye.x());
-    const ConePoseResult pose = EstimateConePose(r.cones, models, ToCameraModel(f.camera), pose_cfg, std::nullopt);
+    const ConePoseResult pose = EstimateConePose(r.cones, models, f.camera, pose_cfg, std::nullopt);
     if (pose.ok) {
       ++poses;
       const Eigen::Matrix3d R = pose_math::RotationFromQuat(pose.pnp.T_camera_model.q);
@@ -201,7 +201,7 @@ TEST(Refinement, OverlappingConesAreGatedNotMismeasured) {
 namespace cone_tracker {
 
 TEST(Outline, DistortUndistortRoundTrip) {
-  const CameraModel cam = ToCameraModel(rig_sim::CameraConfig());
+  const CameraModel cam = rig_model::ThesisCamera();
   std::vector<Eigen::Vector2d> pts;
   for (double u = 10; u < 1024; u += 101)
     for (double v = 10; v < 768; v += 97) pts.emplace_back(u, v);

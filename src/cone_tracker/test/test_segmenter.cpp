@@ -8,8 +8,8 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "../bench/vision_frames.h"
 #include "cone_tracker/vision/segmenter.h"
+#include "vision_frames.h"
 
 namespace cone_tracker {
 namespace {
@@ -63,7 +63,7 @@ TEST(Segmenter, DefaultLayoutRoadConesAtThreeMetres) {
   for (double az : {0.3, 1.4, 2.6}) {
     const Eigen::Vector3d eye(3.2 * std::cos(az), 3.2 * std::sin(az), 1.5);
     const SimFrame f = RenderSim(scene, LookAt(eye, Eigen::Vector3d(0, 0, 0.3)));
-    const SegmentationResult r = seg.Process(View(f), ToCameraModel(f.camera));
+    const SegmentationResult r = seg.Process(View(f), f.camera);
     const double rms = MatchRms(f, r, 3);
     std::printf("default layout, azimuth %.1f rad: peak/base RMS %.2f px\n", az, rms);
     EXPECT_LT(rms, kRmsTolPx) << "azimuth " << az;
@@ -76,15 +76,15 @@ TEST(Segmenter, IndoorFourInchConesAndUndistortion) {
   const rig_sim::Scene scene = rig_sim::EquilateralScene(0.30, 0.10, rig_sim::ConeStyle::kPlain);
   Segmenter seg{SegmenterConfig()};
   const SimFrame f = RenderSim(scene, LookAt(Eigen::Vector3d(0.55, 0.25, 0.35), Eigen::Vector3d(0, 0, 0.03)));
-  const SegmentationResult r = seg.Process(View(f), ToCameraModel(f.camera));
+  const SegmentationResult r = seg.Process(View(f), f.camera);
   const double rms = MatchRms(f, r, 3);
   std::printf("indoor 4-inch layout: peak/base RMS %.2f px\n", rms);
   EXPECT_LT(rms, kRmsTolPx);
   // Undistorted points agree with the pinhole projection of the same point.
-  const rig_sim::CameraModel cam(f.camera);
+  const CameraModel& cam = f.camera;
   for (const ConeDetection& d : r.cones) {
     const Eigen::Vector3d ray = cam.PixelRay(d.peak_px.x(), d.peak_px.y());
-    const Eigen::Vector2d pinhole(f.camera.fu_px * ray.x() + f.camera.cu_px, f.camera.fv_px * ray.y() + f.camera.cv_px);
+    const Eigen::Vector2d pinhole(f.camera.fx_px * ray.x() + f.camera.cx_px, f.camera.fy_px * ray.y() + f.camera.cy_px);
     EXPECT_LT((pinhole - d.peak_undist_px).norm(), 1e-3);
   }
 }
@@ -96,7 +96,7 @@ TEST(Segmenter, BayerAndBgrGiveTheSameCones) {
   const SimFrame f = RenderSim(
       scene, LookAt(Eigen::Vector3d(3.2 * std::cos(1.4), 3.2 * std::sin(1.4), 1.5), Eigen::Vector3d(0, 0, 0.3)));
   Segmenter seg{SegmenterConfig()};
-  const CameraModel cam = ToCameraModel(f.camera);
+  const CameraModel cam = f.camera;
   const SegmentationResult ref = seg.Process(View(f), cam);
   ASSERT_EQ(ref.cones.size(), 3u);
   SimFrame bgr = f;
@@ -121,7 +121,7 @@ TEST(Segmenter, NoConesEmptyAndBadInputGiveClearErrors) {
   rig_sim::Scene empty;
   const SimFrame f = RenderSim(empty, LookAt(Eigen::Vector3d(3, 0, 1.5), Eigen::Vector3d(0, 0, 0)));
   Segmenter seg{SegmenterConfig()};
-  const CameraModel cam = ToCameraModel(f.camera);
+  const CameraModel cam = f.camera;
   SegmentationResult r = seg.Process(View(f), cam);
   EXPECT_TRUE(r.ok);
   EXPECT_TRUE(r.cones.empty());
@@ -159,7 +159,7 @@ TEST(Segmenter, DistractorsAreRejectedAndConesFound) {
   scene.people.push_back(person);
   const SimFrame f = RenderSim(scene, LookAt(Eigen::Vector3d(3.4, 0.4, 1.6), Eigen::Vector3d(0, 0, 0.3)));
   Segmenter seg{SegmenterConfig()};
-  const SegmentationResult r = seg.Process(View(f), ToCameraModel(f.camera));
+  const SegmentationResult r = seg.Process(View(f), f.camera);
   EXPECT_LT(MatchRms(f, r, 3), kRmsTolPx);
   EXPECT_GE(r.rejected.size(), 1u);
 }
@@ -169,7 +169,7 @@ TEST(Segmenter, ConeCutByTheBorderIsRejected) {
       RenderSim(rig_sim::DefaultScene(),
                 LookAt(Eigen::Vector3d(3.2 * std::cos(1.4), 3.2 * std::sin(1.4), 1.5), Eigen::Vector3d(0, 0, 0.3)));
   Segmenter seg{SegmenterConfig()};
-  const CameraModel cam = ToCameraModel(f.camera);
+  const CameraModel cam = f.camera;
   const SegmentationResult full = seg.Process(View(f), cam);
   ASSERT_EQ(full.cones.size(), 3u);
   // Crop the frame so that its left edge runs through the leftmost cone's axis.

@@ -9,6 +9,7 @@
 
 #include "pose_ekf/core/measurement.h"
 #include "pose_math/covariance.h"
+#include "rig_model/ros/conversions.h"
 
 namespace pose_ekf_test {
 
@@ -17,20 +18,9 @@ inline const Eigen::Quaterniond kQCameraImu(Eigen::AngleAxisd(M_PI / 2, Eigen::V
                                             Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()));
 
 inline geometry_msgs::PoseWithCovarianceStamped CameraMsg(const pose_ekf::CameraMeasurement& m) {
-  geometry_msgs::PoseWithCovarianceStamped msg;
-  msg.header.stamp.fromSec(m.stamp_s);
-  msg.header.frame_id = "cones";
-  const auto& T = m.T_cones_camera;
-  msg.pose.pose.position.x = T.t.x();
-  msg.pose.pose.position.y = T.t.y();
-  msg.pose.pose.position.z = T.t.z();
-  msg.pose.pose.orientation.w = T.q[0];
-  msg.pose.pose.orientation.x = T.q[1];
-  msg.pose.pose.orientation.y = T.q[2];
-  msg.pose.pose.orientation.z = T.q[3];
-  const pose_math::Matrix6d cov6 = pose_math::CovarianceRosFromThesis(T.q, m.cov);
-  Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(msg.pose.covariance.data()) = cov6;
-  return msg;
+  ros::Time stamp;
+  stamp.fromSec(m.stamp_s);
+  return rig_model::ToPoseWithCovarianceStamped({m.T_cones_camera, m.cov}, stamp, "cones");
 }
 
 inline sensor_msgs::Imu ImuMsg(const pose_ekf::ImuMeasurement& m) {

@@ -31,7 +31,7 @@ constexpr double kRadToDeg = 180.0 / M_PI;
 rig_sim::Scenario MakeSim(const std::string& name, uint64_t seed, double duration_s) {
   rig_sim::Scenario s;
   std::string error;
-  if (!rig_sim::MakeScenario(name, seed, RIG_SIM_LAYOUTS_DIR, &s, &error)) throw std::runtime_error(error);
+  if (!rig_sim::MakeScenario(name, seed, RIG_MODEL_LAYOUTS_DIR, &s, &error)) throw std::runtime_error(error);
   rig_sim::ShortenScenario(duration_s, 1.0, &s);
   return s;
 }
@@ -50,12 +50,13 @@ pose_math::Matrix6d CameraCovarianceRos() {
 
 // Every cone's middle inside the image, less than 60 deg off the axis (beyond
 // that the distortion polynomial folds back and Project means nothing).
-bool ConesInView(const rig_sim::Scenario& s, const rig_sim::CameraModel& camera, const rig_sim::TruePose& pose) {
+bool ConesInView(const rig_sim::Scenario& s, const rig_model::CameraModel& camera, const rig_sim::TruePose& pose) {
   for (const rig_sim::ConeSpec& cone : s.scene.cones) {
     const Eigen::Vector3d p = pose.R_cones_camera.transpose() * (cone.mid_m() - pose.p_camera_in_cones_m);
     Eigen::Vector2d uv;
     if (p.z() < p.norm() * std::cos(60.0 * kDegToRad) || !camera.Project(p, &uv)) return false;
-    if (uv.x() < 0.0 || uv.y() < 0.0 || uv.x() >= s.camera.width_px || uv.y() >= s.camera.height_px) return false;
+    if (uv.x() < 0.0 || uv.y() < 0.0 || uv.x() >= s.camera.model.width_px || uv.y() >= s.camera.model.height_px)
+      return false;
   }
   return true;
 }
@@ -80,7 +81,7 @@ std::vector<Event> Generate(const rig_sim::Scenario& s, uint64_t noise_seed, con
   const double imu_stamp_offset_s = -0.5 / s.imu.rate_hz;
   const rig_sim::Trajectory trajectory(s.trajectory);
   rig_sim::ImuSimulator imu(s.imu, trajectory);
-  const rig_sim::CameraModel camera(s.camera);
+  const rig_model::CameraModel& camera = s.camera.model;
   const Eigen::Matrix3d R_camera_imu = s.imu.R_camera_imu();
   const Eigen::Matrix<double, 6, 6> L = cov6.llt().matrixL();
   std::mt19937_64 rng(noise_seed);

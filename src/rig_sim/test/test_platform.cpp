@@ -61,7 +61,7 @@ TEST(Platform, RenderedDotsAreBlueWhereProjectedAndTheBoardIsWhiteBetween) {
   std::string err;
   ASSERT_TRUE(LoadSceneYaml(LayoutsDir() + "/platform.yaml", &scene, &err)) << err;
   const Scenario sc = TestScenario("handheld", 1, 2, 0.5);
-  const CameraModel camera(sc.camera);
+  const rig_model::CameraModel& camera = sc.camera.model;
   RenderConfig rc = sc.render;
   rc.noise_sigma_dn = 0;
   const Renderer r(camera, scene, rc);

@@ -41,7 +41,7 @@ class RendererHandheldFrame : public ::testing::Test {
  protected:
   const Scenario s = TestScenario("handheld", 2, 5, 0.25);
   const Trajectory traj{s.trajectory};
-  const CameraModel cam{s.camera};
+  const rig_model::CameraModel& cam = s.camera.model;
   const Renderer r{cam, s.scene, s.render};
   const TruePose pose = traj.At(4.0);
   const Frame f = RenderAt(r, pose, 4.0, 0);
@@ -110,7 +110,7 @@ TEST(Renderer, ConesAreOrangeCollarsWhiteAndTheImageIsNotFlat) {
   const Trajectory traj(s.trajectory);
   RenderConfig rc = s.render;
   rc.noise_sigma_dn = 0;
-  const Renderer r(CameraModel(s.camera), s.scene, rc);
+  const Renderer r(s.camera.model, s.scene, rc);
   const TruePose pose = traj.At(4.0);
   const Frame f = RenderAt(r, pose, 4.0, 0);
   int orange = 0, white = 0, cone = 0;
@@ -134,7 +134,7 @@ TEST(Renderer, DeterministicPerSeedAndFrameAndIndependentOfThreads) {
   RenderConfig one = s.render, two = s.render;
   one.threads = 1;
   two.threads = 2;
-  const Renderer a(CameraModel(s.camera), s.scene, one), b(CameraModel(s.camera), s.scene, two);
+  const Renderer a(s.camera.model, s.scene, one), b(s.camera.model, s.scene, two);
   const Frame fa = RenderAt(a, traj.At(1.0), 1.0, 3), fb = RenderAt(b, traj.At(1.0), 1.0, 3);
   EXPECT_EQ(fa.rgb, fb.rgb);
   const Frame fc = RenderAt(a, traj.At(1.0), 1.0, 4);  // another frame index: other noise

@@ -40,6 +40,7 @@ TEST(Scene, StackedAndPlainConesAndDistractorsParse) {
 cones:
   - {x_m: 0.5, y_m: 0, height_m: 0.10, style: plain}
   - {x_m: 0.5, y_m: 0, z_m: 0.02, height_m: 0.10, style: plain}
+  - {x_m: -0.5, y_m: 0.3, height_m: 0.10, style: plain}
 boxes: [{x_m: 2, y_m: 1, sx_m: 0.5, sy_m: 0.5, sz_m: 0.2}]
 patches: [{x_m: -1, y_m: 1}]
 people: [{x_m: 3, y_m: 3}]
@@ -47,7 +48,7 @@ ground: grass
 )",
                              &s, &err))
       << err;
-  ASSERT_EQ(s.cones.size(), 2u);
+  ASSERT_EQ(s.cones.size(), 3u);
   EXPECT_NEAR(s.cones[1].base_m.z(), 0.02, 1e-12);
   EXPECT_TRUE(s.cones[0].collars.empty());
   EXPECT_NEAR(s.boxes[0].center_m.z(), 0.1, 1e-12);  // boxes sit on the ground
@@ -58,14 +59,16 @@ ground: grass
 TEST(Scene, BadLayoutsAreRefusedWithAMessageNamingTheEntry) {
   Scene s = DefaultScene();
   std::string err;
-  EXPECT_FALSE(ParseSceneYaml("cones:\n  - {x_m: 0, height_m: 0.05}\n", &s, &err));
-  EXPECT_NE(err.find("cones[0]"), std::string::npos) << err;
+  EXPECT_FALSE(ParseSceneYaml("cones:\n  - {x_m: 1}\n  - {x_m: 2}\n  - {x_m: 0, height_m: 0.05}\n", &s, &err));
+  EXPECT_NE(err.find("cones[2]"), std::string::npos) << err;
   EXPECT_NE(err.find("height_m"), std::string::npos) << err;
   EXPECT_FALSE(ParseSceneYaml("cones:\n  - {x_m: 0, style: tall}\n", &s, &err));
   EXPECT_NE(err.find("style"), std::string::npos) << err;
   EXPECT_FALSE(ParseSceneYaml("ground: asphalt\n", &s, &err));
   EXPECT_NE(err.find("no cones"), std::string::npos) << err;
   EXPECT_FALSE(ParseSceneYaml("cones: [{x_m: .nan}]\n", &s, &err));
+  EXPECT_FALSE(ParseSceneYaml("equilateral: {side_m: 1.5, hieght_m: 0.71}\n", &s, &err));  // no silent default
+  EXPECT_NE(err.find("unknown key 'equilateral.hieght_m' (did you mean 'height_m'?)"), std::string::npos) << err;
   EXPECT_FALSE(LoadSceneYaml("/nonexistent/layout.yaml", &s, &err));
   EXPECT_NE(err.find("cannot open"), std::string::npos);
   EXPECT_EQ(s.cones.size(), 3u);  // untouched on failure

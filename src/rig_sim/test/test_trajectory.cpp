@@ -13,13 +13,13 @@ namespace {
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 bool AnyConeInView(const Scenario& s, const TruePose& pose) {
-  const CameraModel cam(s.camera);
+  const rig_model::CameraModel& cam = s.camera.model;
   for (const ConeSpec& c : s.scene.cones) {
     for (const Eigen::Vector3d& p : {c.peak_m(), c.mid_m(), c.base_m}) {
       Eigen::Vector2d uv;
       const Eigen::Vector3d pc = pose.R_cones_camera.transpose() * (p - pose.p_camera_in_cones_m);
-      if (cam.Project(pc, &uv) && uv.x() >= 0 && uv.y() >= 0 && uv.x() < s.camera.width_px &&
-          uv.y() < s.camera.height_px)
+      if (cam.Project(pc, &uv) && uv.x() >= 0 && uv.y() >= 0 && uv.x() < s.camera.model.width_px &&
+          uv.y() < s.camera.model.height_px)
         return true;
     }
   }

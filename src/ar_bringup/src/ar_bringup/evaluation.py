@@ -20,8 +20,11 @@ distortion, from camera_info) with the EKF pose interpolated at the image stamp 
 """
 import dataclasses
 import threading
+import warnings
 from typing import Dict, Iterable, List, Optional, Tuple
 
+import cv2
+import image_geometry
 import numpy as np
 
 from ar_bringup import quat
@@ -198,17 +201,19 @@ class Recorder:
 
 
 def project(points_camera, info):
-    """Pixels of camera-frame points through the plumb_bob model of a CameraInfo (OpenCV's equations)."""
-    K = np.reshape(info.K, (3, 3))
-    D = list(info.D) + [0.0] * (5 - len(info.D))
-    k1, k2, p1, p2, k3 = D[:5]
-    z = points_camera[..., 2]
-    x, y = points_camera[..., 0] / z, points_camera[..., 1] / z
-    r2 = x * x + y * y
-    radial = 1 + k1 * r2 + k2 * r2 * r2 + k3 * r2 * r2 * r2
-    xd = x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x)
-    yd = y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y
-    return np.stack([K[0, 0] * xd + K[0, 2], K[1, 1] * yd + K[1, 2]], axis=-1)
+    """Raw (distorted) pixels of camera-frame points for a CameraInfo: image_geometry reads K and D, and
+    OpenCV's projectPoints applies plumb_bob or rational_polynomial, the model the C++ side uses.
+    (image_geometry's own project3dToPixel gives rectified pixels, and it has no distort.)"""
+    camera = image_geometry.PinholeCameraModel()
+    with warnings.catch_warnings():  # image_geometry builds numpy.matrix objects (PendingDeprecationWarning)
+        warnings.simplefilter("ignore", PendingDeprecationWarning)
+        camera.fromCameraInfo(info)
+    points = np.ascontiguousarray(np.reshape(points_camera, (-1, 3)), dtype=np.float64)
+    if len(points) == 0:
+        return np.zeros(points_camera.shape[:-1] + (2,))
+    pixels, _ = cv2.projectPoints(points, np.zeros(3), np.zeros(3), np.asarray(camera.intrinsicMatrix()),
+                                  np.asarray(camera.distortionCoeffs()).ravel())
+    return np.reshape(pixels, points_camera.shape[:-1] + (2,))
 
 
 def _to_camera(points_cones, p, q):

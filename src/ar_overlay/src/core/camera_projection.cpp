@@ -8,28 +8,6 @@
 
 namespace ar_overlay {
 
-bool CameraIntrinsics::HasDistortion() const {
-  return std::any_of(distortion.begin(), distortion.end(), [](double d) { return d != 0.0; });
-}
-
-bool CameraIntrinsics::operator==(const CameraIntrinsics& o) const {
-  return width_px == o.width_px && height_px == o.height_px && fx_px == o.fx_px && fy_px == o.fy_px &&
-         cx_px == o.cx_px && cy_px == o.cy_px && distortion == o.distortion;
-}
-
-std::string Validate(const CameraIntrinsics& k) {
-  if (k.width_px <= 0 || k.height_px <= 0 || k.width_px > 8192 || k.height_px > 8192)
-    return "image size " + std::to_string(k.width_px) + "x" + std::to_string(k.height_px) + " not in 1..8192";
-  for (double v : {k.fx_px, k.fy_px})
-    if (!std::isfinite(v) || v <= 0) return "focal length fx/fy must be finite and > 0 (camera_info K all zero?)";
-  if (!std::isfinite(k.cx_px) || !std::isfinite(k.cy_px)) return "principal point cx/cy not finite";
-  for (double d : k.distortion)
-    if (!std::isfinite(d)) return "distortion coefficient not finite";
-  const size_t n = k.distortion.size();
-  if (n != 0 && n != 4 && n != 5 && n != 8) return "plumb_bob needs 4, 5 or 8 distortion coefficients";
-  return "";
-}
-
 Eigen::Matrix4f ProjectionFromIntrinsics(double fx, double fy, double cx, double cy, int width, int height,
                                          double near_m, double far_m) {
   // The pinhole projection u = fu X/Z + u0 (3.6) with K of (3.8), in clip coordinates.
@@ -57,7 +35,7 @@ Eigen::Isometry3d CameraLookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d
   return T;
 }
 
-DistortionMap::DistortionMap(const CameraIntrinsics& k) {
+DistortionMap::DistortionMap(const CameraModel& k) {
   const int W = k.width_px, H = k.height_px;
   canvas_width_ = W;
   canvas_height_ = H;

@@ -37,7 +37,7 @@ void Overlay::SetJointPositions(const std::map<std::string, double>& joint_rad) 
   for (const auto& [name, q] : joint_rad) joint_rad_[name] = q;
 }
 
-void Overlay::Process(const cv::Mat& image, const std::string& encoding, const CameraIntrinsics& k,
+void Overlay::Process(const cv::Mat& image, const std::string& encoding, const CameraModel& k,
                       const Eigen::Isometry3d& T_camera_cones, cv::Mat& out, std::string& out_encoding) {
   ToColor(image, encoding, out, out_encoding);
   if (out.cols != k.width_px || out.rows != k.height_px)

@@ -10,7 +10,7 @@ namespace {
 
 constexpr double kInchM = 0.0254;
 
-std::vector<cv::Point2d> Undistort(const std::vector<cv::Point2d>& raw, const CameraIntrinsics& k) {
+std::vector<cv::Point2d> Undistort(const std::vector<cv::Point2d>& raw, const CameraModel& k) {
   if (raw.empty() || !k.HasDistortion()) return raw;
   const cv::Matx33d K(k.fx_px, 0, k.cx_px, 0, k.fy_px, k.cy_px, 0, 0, 1);
   std::vector<cv::Point2d> out;
@@ -100,7 +100,7 @@ std::vector<DotBlob> SegmentDots(const cv::Mat& bgr, DotColour colour, const Ali
   return blobs;
 }
 
-std::vector<DotError> MeasureAlignment(const cv::Mat& bgr, const CameraIntrinsics& k, const AlignmentConfig& config) {
+std::vector<DotError> MeasureAlignment(const cv::Mat& bgr, const CameraModel& k, const AlignmentConfig& config) {
   std::vector<cv::Point2d> red, blue;
   for (const DotBlob& d : SegmentDots(bgr, DotColour::kRed, config)) red.push_back(d.centre_px);
   for (const DotBlob& d : SegmentDots(bgr, DotColour::kBlue, config)) blue.push_back(d.centre_px);

@@ -273,7 +273,7 @@ size_t Renderer::ChooseLevel(int mesh_id, const Eigen::Matrix4f& T_camera_model)
   return level;
 }
 
-void Renderer::SetCamera(const CameraIntrinsics& k) {
+void Renderer::SetCamera(const CameraModel& k) {
   if (map_ && k == camera_) return;
   const std::string why = Validate(k);
   if (!why.empty()) throw std::invalid_argument("ar_overlay: camera intrinsics: " + why);

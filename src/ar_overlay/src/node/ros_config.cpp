@@ -3,14 +3,15 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "rig_model/ros/conversions.h"
+
 namespace ar_overlay {
 
-CameraIntrinsics FromCameraInfo(const sensor_msgs::CameraInfo& info) {
-  const std::string& model = info.distortion_model;
-  if (!model.empty() && model != "plumb_bob" && model != "rational_polynomial")
-    throw std::invalid_argument("camera_info distortion_model '" + model + "' is not plumb_bob/rational_polynomial");
-  return CameraIntrinsics{
-      static_cast<int>(info.width), static_cast<int>(info.height), info.K[0], info.K[4], info.K[2], info.K[5], info.D};
+CameraModel FromCameraInfo(const sensor_msgs::CameraInfo& info) {
+  CameraModel camera;
+  std::string why;
+  if (!rig_model::FromCameraInfo(info, &camera, &why)) throw std::invalid_argument(why);
+  return camera;
 }
 
 std::string LoadConfig(const ros::NodeHandle& nh, OverlayConfig& c) {

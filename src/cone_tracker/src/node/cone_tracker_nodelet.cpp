@@ -20,6 +20,7 @@
 #include "cone_tracker/node/layout.h"
 #include "cone_tracker/node/tracker_adapter.h"
 #include "cone_tracker/node/visuals.h"
+#include "rig_model/ros/conversions.h"
 #include "rig_model/ros/diagnostics.h"
 
 namespace cone_tracker {
@@ -191,11 +192,8 @@ std::optional<pose_math::Pose> ConeTrackerNodelet::TfPrediction(const ros::Time&
   } catch (const tf2::TransformException&) {
     return std::nullopt;  // no pose_ekf running: the last pose or the linear algorithms take over
   }
-  const auto& q = tf.transform.rotation;
-  const auto& t = tf.transform.translation;
-  pose_math::Pose T;
-  T.q = pose_math::Quat(q.w, q.x, q.y, q.z).normalized();
-  T.t = Eigen::Vector3d(t.x, t.y, t.z);
+  pose_math::Pose T = rig_model::FromTransformMsg(tf.transform);
+  T.q.normalize();
   if (!T.q.allFinite() || !T.t.allFinite()) return std::nullopt;
   ++tf_predictions_;
   return T;

@@ -117,8 +117,8 @@ NodeConfig LoadConfig(const ros::NodeHandle& private_nh) {
   read.insert(read.end(), {"diagnostic_period", "debug_image"});
   rig_model::CheckParamNames(private_nh, read);
   Check(!c.layout_file.empty(),
-        "layout_file is required (a layout YAML in rig_sim's schema, e.g. "
-        "$(find rig_sim)/config/layouts/default.yaml)");
+        "layout_file is required (a layout YAML in rig_model's schema, e.g. "
+        "$(find rig_model)/config/layouts/default.yaml)");
   ValidateConfig(c);
   return c;
 }

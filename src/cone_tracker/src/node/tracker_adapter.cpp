@@ -8,7 +8,9 @@
 #include <boost/make_shared.hpp>
 #include <boost/math/distributions/chi_squared.hpp>
 
+#include "cone_tracker/node/layout.h"
 #include "pose_math/covariance.h"
+#include "rig_model/ros/conversions.h"
 
 namespace cone_tracker {
 namespace {
@@ -81,36 +83,22 @@ std::vector<std::string> PoseGateNames(uint32_t bits) {
 TrackerAdapter::TrackerAdapter(const NodeConfig& config, const std::vector<ConeModel>& layout)
     : config_(config), layout_(layout), segmenter_(config.segmenter) {
   ValidateConfig(config_);
-  if (layout_.size() < 3 || layout_.size() > 8) throw std::invalid_argument("the layout needs 3 to 8 cones");
+  if (layout_.size() < 3 || int(layout_.size()) > kMaxTrackedCones)
+    throw std::invalid_argument("the layout needs 3 to " + std::to_string(kMaxTrackedCones) + " cones");
 }
 
 bool TrackerAdapter::SetCameraInfo(const sensor_msgs::CameraInfo& info, std::string* error) {
   has_camera_info_ = true;
-  std::ostringstream why;
-  const auto& K = info.K;
-  bool finite = true;
-  for (double k : K) finite = finite && std::isfinite(k);
-  for (double d : info.D) finite = finite && std::isfinite(d);
-  if (!finite) {
-    why << "camera_info has NaN or inf in K or D";
-  } else if (!(K[0] > 0.0 && K[4] > 0.0)) {
-    why << "camera_info K has focal lengths fx = " << K[0] << ", fy = " << K[4] << " (must be > 0; uncalibrated?)";
-  } else if (!info.D.empty() && info.distortion_model != "plumb_bob" &&
-             info.distortion_model != "rational_polynomial") {
-    why << "camera_info distortion_model '" << info.distortion_model
-        << "' is not supported (plumb_bob or rational_polynomial)";
-  } else if (info.D.size() > 14) {
-    why << "camera_info D has " << info.D.size() << " coefficients (at most 14)";
-  }
-  camera_error_ = why.str();
-  camera_valid_ = camera_error_.empty();
+  CameraModel camera;
+  camera_error_.clear();
+  camera_valid_ = rig_model::FromCameraInfo(info, &camera, &camera_error_);
   if (!camera_valid_) {
     ++counters_.bad_camera_info_msgs;
     if (error) *error = camera_error_;
     return false;
   }
-  camera_ = CameraModel{K[0], K[4], K[2], K[5], std::vector<double>(info.D.begin(), info.D.end())};
-  camera_width_ = int(info.width), camera_height_ = int(info.height);
+  camera_ = camera;
+  camera_width_ = camera.width_px, camera_height_ = camera.height_px;
   return true;
 }
 
@@ -315,11 +303,7 @@ void TrackerAdapter::FillPose(const sensor_msgs::Image& im, const std::optional<
   pose->header.stamp = im.header.stamp;
   pose->header.frame_id = config_.fixed_frame;
   const pose_math::Pose& T = T_cones_camera.pose;
-  pose->pose.pose.position.x = T.t.x(), pose->pose.pose.position.y = T.t.y(), pose->pose.pose.position.z = T.t.z();
-  pose->pose.pose.orientation.w = T.q[0], pose->pose.pose.orientation.x = T.q[1];
-  pose->pose.pose.orientation.y = T.q[2], pose->pose.pose.orientation.z = T.q[3];
-  for (int i = 0; i < 6; ++i)
-    for (int j = 0; j < 6; ++j) pose->pose.covariance[size_t(6 * i + j)] = cov6(i, j);
+  pose->pose = rig_model::ToPoseWithCovarianceMsg(T, cov6);
   r->pose = pose;
   r->status = FrameStatus::kPose;
   det->pose_published = true;

@@ -7,6 +7,7 @@
 
 #include "pose_math/covariance.h"
 #include "pose_math/rotation.h"
+#include "rig_model/ros/conversions.h"
 
 namespace pose_ekf {
 namespace {
@@ -37,11 +38,10 @@ ConversionResult CameraFromMsg(const geometry_msgs::PoseWithCovarianceStamped& m
     *why = topic + ": header.frame_id is '" + msg.header.frame_id + "', expected '" + cones_frame + "'";
     return ConversionResult::kInvalid;
   }
-  const auto& p = msg.pose.pose;
   out->stamp_s = msg.header.stamp.toSec();
-  const pose_math::Quat q(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z);
-  out->T_cones_camera.t = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
-  const Eigen::Matrix<double, 6, 6> cov6 = ToMatrix<6>(msg.pose.covariance);
+  pose_math::Matrix6d cov6;
+  rig_model::FromPoseWithCovarianceMsg(msg.pose, &out->T_cones_camera, &cov6);
+  const pose_math::Quat q = out->T_cones_camera.q;  // as received: normalised below, counted by the caller
   const char* non_finite = !q.allFinite()                       ? "pose.pose.orientation"
                            : !out->T_cones_camera.t.allFinite() ? "pose.pose.position"
                            : !cov6.allFinite()                  ? "pose.covariance"
@@ -158,14 +158,8 @@ bool PoseEkfAdapter::FillOutputs(const EkfCore& filter, AdapterOutputs* out) con
   auto& pose = out->pose;
   pose.header.stamp = stamp;
   pose.header.frame_id = config_.cones_frame;
-  pose.pose.pose.position.x = T.pose.t.x();
-  pose.pose.pose.position.y = T.pose.t.y();
-  pose.pose.pose.position.z = T.pose.t.z();
-  pose.pose.pose.orientation.w = q[0];
-  pose.pose.pose.orientation.x = q[1];
-  pose.pose.pose.orientation.y = q[2];
-  pose.pose.pose.orientation.z = q[3];
-  FromMatrix<6>(pose_math::CovarianceRosFromThesis(q, T.cov), &pose.pose.covariance);
+  const pose_math::Pose T_unit{q, T.pose.t};  // the published pose: unit quaternion
+  pose.pose = rig_model::ToPoseWithCovarianceMsg(pose_math::PoseWithCovariance{T_unit, T.cov});
 
   // Odometry: twist in the child (camera) frame, as nav_msgs/Odometry specifies.
   auto& odom = out->odometry;
@@ -192,10 +186,7 @@ bool PoseEkfAdapter::FillOutputs(const EkfCore& filter, AdapterOutputs* out) con
   auto& tf = out->tf;
   tf.header = pose.header;
   tf.child_frame_id = config_.camera_frame;
-  tf.transform.translation.x = T.pose.t.x();
-  tf.transform.translation.y = T.pose.t.y();
-  tf.transform.translation.z = T.pose.t.z();
-  tf.transform.rotation = pose.pose.pose.orientation;
+  tf.transform = rig_model::ToTransformMsg(T_unit);
   return true;
 }
 

@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 
+#include "rig_model/camera_imu.h"
 #include "rig_sim/trajectory.h"
 
 namespace rig_sim {
@@ -42,7 +43,9 @@ struct ImuConfig {
   double accel_range_m_s2 = 10.0 * 9.80665;
   uint64_t seed = 1;
 
-  Eigen::Matrix3d R_camera_imu() const;
+  Eigen::Matrix3d R_camera_imu() const;  // rig_model::MountRotation(mount_error_rpy_deg)
+  // The mount as the rig's extrinsics (rotation and lever arm), camera_frame -> imu_frame.
+  rig_model::CameraImuExtrinsics Extrinsics(const std::string& camera_frame, const std::string& imu_frame) const;
   std::string Validate() const;
 };
 

@@ -2,7 +2,7 @@
 //
 // Why not OpenGL: every object in the scene is analytic (cones, boxes,
 // cylinders, the ground plane), so casting one ray per pixel gives the exact
-// silhouettes, and the per-pixel ray table (built once from CameraModel's
+// silhouettes, and the per-pixel ray table (built once from rig_model::CameraModel's
 // Newton undistortion, 3.11) applies the lens distortion exactly instead of
 // through a resampled warp of a pinhole render. Screen tiles are culled
 // against each object's bounding sphere, so a 1024x768 frame costs a few ms
@@ -55,7 +55,7 @@ struct RayHit {
 
 class Renderer {
  public:
-  Renderer(const CameraModel& camera, const Scene& scene, const RenderConfig& config);
+  Renderer(const rig_model::CameraModel& camera, const Scene& scene, const RenderConfig& config);
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;

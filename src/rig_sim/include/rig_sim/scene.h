@@ -1,92 +1,33 @@
-// The simulated world in the `cones` frame {M}: origin at the centroid of the
-// cone bases, z up, x toward cone 1 (DESIGN.md). Cones stand upright; a
-// stacked cone simply has its base above the ground. ROS-free.
+// The simulated world in the `cones` frame {M}: the cone layout of rig_model (the one schema and
+// parser of config/layouts/*.yaml: cones, and the scenery around them). ROS-free.
 #pragma once
 
 #include <string>
-#include <utility>
-#include <vector>
 
-#include <Eigen/Core>
+#include "rig_model/layout.h"
 
 namespace rig_sim {
 
-enum class ConeStyle { kPlain, kRoad };
+using rig_model::BoxSpec;
+using rig_model::ConeSpec;
+using rig_model::ConeStyle;
+using rig_model::GroundStyle;
+using rig_model::MakeCone;
+using rig_model::PatchSpec;
+using rig_model::PersonSpec;
+using rig_model::PlatformSpec;
+using Scene = rig_model::Layout;
 
-struct ConeSpec {
-  Eigen::Vector3d base_m = Eigen::Vector3d::Zero();  // centre of the base circle
-  double height_m = 0.71;
-  double tau = 1.0 / 7.0;  // radius-to-height ratio (3.1.4)
-  ConeStyle style = ConeStyle::kRoad;
-  // White reflective bands, as (from, to) fractions of the height above the base.
-  std::vector<std::pair<double, double>> collars;
-  Eigen::Vector3d albedo = Eigen::Vector3d(0.90, 0.16, 0.012);  // linear RGB, safety orange
-  double base_plate_m = 0.0;  // side of the black square base on the ground (road cones)
-
-  double radius_m() const { return tau * height_m; }
-  Eigen::Vector3d peak_m() const { return base_m + Eigen::Vector3d(0, 0, height_m); }
-  Eigen::Vector3d mid_m() const { return base_m + Eigen::Vector3d(0, 0, 0.5 * height_m); }
-};
-
-// Orange things that are not cones, to test the segmenter honestly.
-struct BoxSpec {
-  Eigen::Vector3d center_m = Eigen::Vector3d::Zero();
-  double yaw_rad = 0.0;
-  Eigen::Vector3d size_m = Eigen::Vector3d(0.4, 0.3, 0.3);
-  Eigen::Vector3d albedo = Eigen::Vector3d(0.85, 0.18, 0.02);
-};
-struct PatchSpec {  // flat, on the ground
-  Eigen::Vector2d center_m = Eigen::Vector2d::Zero();
-  double yaw_rad = 0.0;
-  Eigen::Vector2d size_m = Eigen::Vector2d(0.5, 0.5);
-  Eigen::Vector3d albedo = Eigen::Vector3d(0.85, 0.18, 0.02);
-};
-struct PersonSpec {  // a standing person in a hi-vis orange vest, as a cylinder
-  Eigen::Vector2d position_m = Eigen::Vector2d::Zero();
-  double height_m = 1.75;
-  double radius_m = 0.22;
-};
-
-// The overlay test platform (7.2): a white board on the ground whose top face
-// carries a rows x cols grid of blue dots, centred on the board. The virtual
-// object of the experiment is a grid of red dots whose centres fall between them.
-struct PlatformSpec {
-  Eigen::Vector2d center_m = Eigen::Vector2d::Zero();
-  double yaw_rad = 0.0;
-  Eigen::Vector3d size_m = Eigen::Vector3d(0.6, 0.6, 0.05);  // the board stands on the ground
-  Eigen::Vector3d albedo = Eigen::Vector3d(0.80, 0.80, 0.78);
-  int rows = 5, cols = 5;  // along the board's y and x
-  double spacing_m = 0.1, dot_radius_m = 0.02;
-  Eigen::Vector3d dot_albedo = Eigen::Vector3d(0.02, 0.08, 0.60);
-  // Dot centres on the top face in {M}, row-major (row along y, column along x).
-  std::vector<Eigen::Vector3d> DotCentres() const;
-};
-
-enum class GroundStyle { kAsphalt, kGrass, kConcrete };
-
-struct Scene {
-  std::vector<ConeSpec> cones;
-  std::vector<BoxSpec> boxes;
-  std::vector<PatchSpec> patches;
-  std::vector<PersonSpec> people;
-  std::vector<PlatformSpec> platforms;
-  GroundStyle ground = GroundStyle::kAsphalt;
-
-  // Centroid of the cone bases (the origin of {M} for a well-formed layout).
-  Eigen::Vector3d ConeCentroid() const;
-};
-
-// A cone of the given height and style with the collars such a cone carries.
-ConeSpec MakeCone(const Eigen::Vector3d& base_m, double height_m, ConeStyle style);
-
-// The thesis's layout (3.1.3): three identical cones in an equilateral
-// triangle, centred on the origin, cone 1 on +x.
-Scene EquilateralScene(double side_m, double height_m, ConeStyle style);
+// The thesis's layout (3.1.3): three identical cones in an equilateral triangle, centred on the
+// origin, cone 1 on +x.
+inline Scene EquilateralScene(double side_m, double height_m, ConeStyle style) {
+  return rig_model::EquilateralLayout(side_m, height_m, style);
+}
 // Default: three 28" (0.71 m) road cones, 1.5 m apart.
-Scene DefaultScene();
+inline Scene DefaultScene() { return rig_model::DefaultLayout(); }
 
-// Layout files (config/layouts/*.yaml). Returns false with a message naming the
-// offending entry on any error; *scene is untouched then.
+// Layout files through rig_model::LoadLayoutFile. Returns false with its message (file, line,
+// field) on any error; *scene is untouched then.
 bool LoadSceneYaml(const std::string& path, Scene* scene, std::string* error);
 bool ParseSceneYaml(const std::string& text, Scene* scene, std::string* error);
 

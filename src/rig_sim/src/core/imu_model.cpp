@@ -2,6 +2,7 @@
 
 #include "imu_driver/core/crista_protocol.h"
 #include "pose_math/rotation.h"
+#include "rig_model/camera_imu.h"
 
 #include <cmath>
 #include <sstream>
@@ -27,14 +28,16 @@ int16_t Quantize(double value, double units_per_count, double range, bool* satur
 
 }  // namespace
 
-Eigen::Matrix3d ImuConfig::R_camera_imu() const {
-  // IMU x forward = camera z; IMU y left = camera -x; IMU z up = camera -y.
-  Eigen::Matrix3d nominal;
-  nominal << 0, -1, 0,  //
-      0, 0, -1,         //
-      1, 0, 0;
-  const Eigen::Vector3d e = mount_error_rpy_deg * kDeg;  // fixed-axis roll, pitch, yaw = Rz Ry Rx (2.19)
-  return nominal * pose_math::RotationFromEulerZyx(pose_math::EulerZyx{e.z(), e.y(), e.x(), false});
+Eigen::Matrix3d ImuConfig::R_camera_imu() const { return rig_model::MountRotation(mount_error_rpy_deg); }
+
+rig_model::CameraImuExtrinsics ImuConfig::Extrinsics(const std::string& camera_frame,
+                                                     const std::string& imu_frame) const {
+  rig_model::CameraImuExtrinsics e;
+  e.parent_frame = camera_frame;
+  e.child_frame = imu_frame;
+  e.q_camera_imu = Eigen::Quaterniond(R_camera_imu());
+  e.p_imu_in_camera_m = p_imu_in_camera_m;
+  return e;
 }
 
 std::string ImuConfig::Validate() const {

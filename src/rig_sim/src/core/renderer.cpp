@@ -26,7 +26,7 @@ uint64_t SplitMix64(uint64_t x) {
 }  // namespace
 
 struct Renderer::Impl {
-  CameraModel camera;
+  rig_model::CameraModel camera;
   RenderConfig config;
   std::vector<Prim> prims;
   Materials materials;
@@ -40,13 +40,13 @@ struct Renderer::Impl {
   std::vector<int8_t> noise;               // N(0, sigma) samples
   static constexpr uint32_t kNoiseMask = (1u << 20) - 1;
 
-  Impl(const CameraModel& cam, const Scene& scene, const RenderConfig& cfg)
+  Impl(const rig_model::CameraModel& cam, const Scene& scene, const RenderConfig& cfg)
       : camera(cam),
         config(cfg),
         prims(BuildPrims(scene)),
         materials(scene, cfg),
-        width(cam.config().width_px),
-        height(cam.config().height_px) {
+        width(cam.width_px),
+        height(cam.height_px) {
     tiles_x = (width + kTile - 1) / kTile;
     tiles_y = (height + kTile - 1) / kTile;
     rays.resize(static_cast<size_t>(width) * height);
@@ -187,7 +187,7 @@ struct Renderer::Impl {
   }
 };
 
-Renderer::Renderer(const CameraModel& camera, const Scene& scene, const RenderConfig& config)
+Renderer::Renderer(const rig_model::CameraModel& camera, const Scene& scene, const RenderConfig& config)
     : impl_(new Impl(camera, scene, config)) {}
 Renderer::~Renderer() = default;
 int Renderer::width() const { return impl_->width; }

@@ -10,7 +10,7 @@ SimStream::SimStream(const Scenario& scenario, const StreamConfig& config)
       config_(config),
       trajectory_(scenario.trajectory),
       imu_(scenario.imu, trajectory_),
-      renderer_(CameraModel(scenario.camera), scenario.scene, scenario.render) {
+      renderer_(scenario.camera.model, scenario.scene, scenario.render) {
   const std::string cam_err = scenario.camera.Validate();
   if (!cam_err.empty()) throw std::invalid_argument("CameraConfig: " + cam_err);
   if (!(config.truth_rate_hz > 0.0) || !(config.camera_delay_s >= 0.0) || config.camera_delay_s > 1.0)

@@ -21,7 +21,7 @@ void Usage() {
       "  --camera-delay-ms MS   deliver each frame MS after its exposure stamp (default 0)\n"
       "  --compression C        none (default), lz4 or bz2\n"
       "  --noise-sigma DN       image noise (default 2; 0 for none)\n"
-      "  --layouts DIR          directory of layout files (default: the package's config/layouts)\n"
+      "  --layouts DIR          directory of layout files (default: rig_model's config/layouts)\n"
       "  --layout FILE          use this layout file instead of the scenario's\n\n"
       "scenarios:\n");
   for (const auto& s : rig_sim::ListScenarios()) std::printf("  %-10s %s\n", s.name.c_str(), s.description.c_str());
@@ -106,7 +106,7 @@ int main(int argc, char** argv) {
       "make_bag: %s seed %llu: %.1f s, %llu images %dx%d, %llu IMU, %llu truth -> %s in %.1f s "
       "(rendering %.1f s)\n",
       scenario.name.c_str(), static_cast<unsigned long long>(seed), scenario.trajectory.duration_s,
-      static_cast<unsigned long long>(stats.images), scenario.camera.width_px, scenario.camera.height_px,
+      static_cast<unsigned long long>(stats.images), scenario.camera.model.width_px, scenario.camera.model.height_px,
       static_cast<unsigned long long>(stats.imu), static_cast<unsigned long long>(stats.truth), output.c_str(), wall,
       stats.render_s);
   return 0;

@@ -4,31 +4,16 @@
 
 #include <Eigen/Geometry>
 
+#include "rig_model/ros/conversions.h"
+
 namespace rig_sim {
 namespace {
 
-geometry_msgs::Quaternion QuaternionMsg(const Eigen::Matrix3d& R) {
-  const Eigen::Quaterniond q(R);
-  geometry_msgs::Quaternion m;
-  m.w = q.w();
-  m.x = q.x();
-  m.y = q.y();
-  m.z = q.z();
-  return m;
-}
-
-void FillPose(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, geometry_msgs::Pose* pose) {
-  pose->position.x = t.x();
-  pose->position.y = t.y();
-  pose->position.z = t.z();
-  pose->orientation = QuaternionMsg(R);
-}
-
-void FillTransform(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, geometry_msgs::Transform* tf) {
-  tf->translation.x = t.x();
-  tf->translation.y = t.y();
-  tf->translation.z = t.z();
-  tf->rotation = QuaternionMsg(R);
+pose_math::Pose PoseOf(const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
+  pose_math::Pose T;
+  T.q = pose_math::ThesisFromEigen(Eigen::Quaterniond(R));
+  T.t = t;
+  return T;
 }
 
 // An Imu message with no orientation estimate (REP-145) and no covariances yet.
@@ -57,28 +42,18 @@ ros::Time StampAt(double start_s, double t_s) {
 }
 
 sensor_msgs::CameraInfo MakeCameraInfo(const CameraConfig& c, const ros::Time& stamp, const std::string& frame) {
-  sensor_msgs::CameraInfo info;
-  info.header.stamp = stamp;
-  info.header.frame_id = frame;
-  info.width = c.width_px;
-  info.height = c.height_px;
-  info.distortion_model = "plumb_bob";
-  info.D = {c.k1, c.k2, c.p1, c.p2, c.k3};
-  info.K = {c.fu_px, 0.0, c.cu_px, 0.0, c.fv_px, c.cv_px, 0.0, 0.0, 1.0};
-  info.R = {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0};
-  info.P = {c.fu_px, 0.0, c.cu_px, 0.0, 0.0, c.fv_px, c.cv_px, 0.0, 0.0, 0.0, 1.0, 0.0};
-  return info;
+  return rig_model::ToCameraInfo(c.model, stamp, frame);
 }
 
 sensor_msgs::ImagePtr MakeEmptyImage(const CameraConfig& c, const ros::Time& stamp, const std::string& frame) {
   sensor_msgs::ImagePtr img(new sensor_msgs::Image);
   img->header.stamp = stamp;
   img->header.frame_id = frame;
-  img->width = c.width_px;
-  img->height = c.height_px;
+  img->width = c.model.width_px;
+  img->height = c.model.height_px;
   img->encoding = "rgb8";
   img->is_bigendian = 0;
-  img->step = 3 * c.width_px;
+  img->step = 3 * c.model.width_px;
   img->data.resize(static_cast<size_t>(img->step) * img->height);
   return img;
 }
@@ -105,28 +80,19 @@ geometry_msgs::PoseStamped MakeTruthPose(const TruePose& pose, const ros::Time& 
   geometry_msgs::PoseStamped m;
   m.header.stamp = stamp;
   m.header.frame_id = frame;
-  FillPose(pose.R_cones_camera, pose.p_camera_in_cones_m, &m.pose);
+  m.pose = rig_model::ToPoseMsg(PoseOf(pose.R_cones_camera, pose.p_camera_in_cones_m));
   return m;
 }
 
 geometry_msgs::TransformStamped MakeTruthTransform(const TruePose& pose, const ros::Time& stamp,
                                                    const FrameNames& frames) {
-  geometry_msgs::TransformStamped m;
-  m.header.stamp = stamp;
-  m.header.frame_id = frames.cones;
-  m.child_frame_id = frames.camera_truth;
-  FillTransform(pose.R_cones_camera, pose.p_camera_in_cones_m, &m.transform);
-  return m;
+  return rig_model::ToTransformStamped(PoseOf(pose.R_cones_camera, pose.p_camera_in_cones_m), stamp, frames.cones,
+                                       frames.camera_truth);
 }
 
 tf2_msgs::TFMessage MakeStaticTruth(const ImuConfig& imu, const ros::Time& stamp, const FrameNames& frames) {
-  geometry_msgs::TransformStamped m;
-  m.header.stamp = stamp;
-  m.header.frame_id = frames.camera_truth;
-  m.child_frame_id = frames.imu_truth;
-  FillTransform(imu.R_camera_imu(), imu.p_imu_in_camera_m, &m.transform);
   tf2_msgs::TFMessage out;
-  out.transforms.push_back(m);
+  out.transforms.push_back(rig_model::ToTransformStamped(imu.Extrinsics(frames.camera_truth, frames.imu_truth), stamp));
   return out;
 }
 

@@ -23,7 +23,7 @@ void Bench(const std::string& name, double value, const char* unit) {
 
 double RenderMs(const rig_sim::Scenario& s, const rig_sim::RenderConfig& rc, int frames) {
   const rig_sim::Trajectory traj(s.trajectory);
-  const rig_sim::Renderer r(rig_sim::CameraModel(s.camera), s.scene, rc);
+  const rig_sim::Renderer r(s.camera.model, s.scene, rc);
   std::vector<uint8_t> rgb(static_cast<size_t>(r.width()) * r.height() * 3);
   const auto t0 = Clock::now();
   for (int n = 0; n < frames; ++n) r.Render(traj.At(5.0 + n / 30.0), 5.0 + n / 30.0, n, rgb.data());
@@ -32,7 +32,7 @@ double RenderMs(const rig_sim::Scenario& s, const rig_sim::RenderConfig& rc, int
 
 double OpenCvFlatMs(const rig_sim::Scenario& s, int frames) {
   const rig_sim::Trajectory traj(s.trajectory);
-  const rig_sim::CameraConfig& c = s.camera;
+  const rig_model::CameraModel& c = s.camera.model;
   cv::Mat img(c.height_px, c.width_px, CV_8UC3), noise(c.height_px, c.width_px, CV_8UC3);
   const auto t0 = Clock::now();
   for (int n = 0; n < frames; ++n) {
@@ -45,8 +45,8 @@ double OpenCvFlatMs(const rig_sim::Scenario& s, int frames) {
            {cone.peak_m(), Eigen::Vector3d(cone.base_m + side), Eigen::Vector3d(cone.base_m - side)}) {
         const Eigen::Vector3d q = pose.R_cones_camera.transpose() * (p - pose.p_camera_in_cones_m);
         if (q.z() <= 0.1) break;
-        tri.emplace_back(static_cast<int>(c.fu_px * q.x() / q.z() + c.cu_px),
-                         static_cast<int>(c.fv_px * q.y() / q.z() + c.cv_px));
+        tri.emplace_back(static_cast<int>(c.fx_px * q.x() / q.z() + c.cx_px),
+                         static_cast<int>(c.fy_px * q.y() / q.z() + c.cy_px));
       }
       if (tri.size() == 3) cv::fillConvexPoly(img, tri, cv::Scalar(255, 100, 20), cv::LINE_AA);
     }
@@ -66,8 +66,8 @@ int main() {
     return 1;
   }
   const int frames = 60;
-  std::printf("rig_sim_bench: handheld scenario, %dx%d, %d frames from t = 5 s\n", s.camera.width_px,
-              s.camera.height_px, frames);
+  std::printf("rig_sim_bench: handheld scenario, %dx%d, %d frames from t = 5 s\n", s.camera.model.width_px,
+              s.camera.model.height_px, frames);
   rig_sim::RenderConfig two = s.render, one = s.render, naive = s.render;
   one.threads = 1;
   naive.threads = 1;

@@ -35,7 +35,7 @@ int Run(int argc, char** argv) {
   ev.kind = rig_sim::EventKind::kImage;
   ev.stamp_s = t;
   ev.pose = stream.trajectory().At(t);
-  cv::Mat rgb(scenario.camera.height_px, scenario.camera.width_px, CV_8UC3);
+  cv::Mat rgb(scenario.camera.model.height_px, scenario.camera.model.width_px, CV_8UC3);
   stream.RenderFrame(ev, rgb.data);
   cv::Mat bgr;
   cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);

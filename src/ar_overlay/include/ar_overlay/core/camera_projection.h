@@ -15,21 +15,13 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "rig_model/camera_model.h"
+
 namespace ar_overlay {
 
-struct CameraIntrinsics {
-  int width_px = 0;
-  int height_px = 0;
-  double fx_px = 0, fy_px = 0, cx_px = 0, cy_px = 0;
-  std::vector<double> distortion;  // plumb_bob k1 k2 p1 p2 [k3 ...] as OpenCV; empty: none
-
-  bool HasDistortion() const;
-  bool operator==(const CameraIntrinsics& o) const;
-  bool operator!=(const CameraIntrinsics& o) const { return !(*this == o); }
-};
-
-// Empty if usable, else a message naming the bad field.
-std::string Validate(const CameraIntrinsics& k);
+// The rig's camera (rig_model): intrinsics in OpenCV's convention and the plumb_bob or
+// rational_polynomial coefficients in OpenCV's order; rig_model::Validate checks it.
+using CameraModel = rig_model::CameraModel;
 
 // OpenGL clip-from-camera matrix for camera coordinates in OpenCV's optical
 // convention (x right, y down, z forward), so that pixel (u, v) = (fx x/z + cx,
@@ -48,7 +40,7 @@ Eigen::Isometry3d CameraLookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d
 class DistortionMap {
  public:
   // Builds the canvas and the map for `k` (slow: call when the intrinsics change).
-  explicit DistortionMap(const CameraIntrinsics& k);
+  explicit DistortionMap(const CameraModel& k);
 
   int canvas_width() const { return canvas_width_; }
   int canvas_height() const { return canvas_height_; }

@@ -32,7 +32,7 @@ class Overlay {
   // Draws the models over `image` (in `encoding`) into `out`, the composited
   // colour image; `out_encoding` is rgb8 or bgr8 (see composite.h: `out`'s
   // buffer is reused when it has the right size and type).
-  void Process(const cv::Mat& image, const std::string& encoding, const CameraIntrinsics& k,
+  void Process(const cv::Mat& image, const std::string& encoding, const CameraModel& k,
                const Eigen::Isometry3d& T_camera_cones, cv::Mat& out, std::string& out_encoding);
 
   size_t model_count() const { return specs_.size(); }

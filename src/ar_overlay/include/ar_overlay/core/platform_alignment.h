@@ -44,7 +44,7 @@ std::vector<DotBlob> SegmentDots(const cv::Mat& bgr, DotColour colour, const Ali
 // Red dots of one frame with their errors; none unless the whole blue grid is
 // seen (a cone in front of it, or the platform cut by the image border).
 // k: the frame's camera (its distortion is undone before the geometry).
-std::vector<DotError> MeasureAlignment(const cv::Mat& bgr, const CameraIntrinsics& k, const AlignmentConfig& config);
+std::vector<DotError> MeasureAlignment(const cv::Mat& bgr, const CameraModel& k, const AlignmentConfig& config);
 
 struct AlignmentStats {
   size_t dots = 0;

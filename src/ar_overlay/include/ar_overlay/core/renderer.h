@@ -45,7 +45,7 @@ class Renderer {
   // Uploads a mesh; returns its id for DrawItem::mesh_id.
   int AddMesh(const Mesh& mesh);
   // Rebuilds the framebuffer and distortion map when the intrinsics change.
-  void SetCamera(const CameraIntrinsics& k);
+  void SetCamera(const CameraModel& k);
   // Renders `items` seen from T_camera_cones (p_camera = R p_cones + t) into
   // `overlay_rgba` (CV_8UC4, the camera's size, premultiplied R G B A, zero
   // outside the models); it refers to the renderer's own buffer, valid (and
@@ -65,7 +65,7 @@ class Renderer {
   struct Gl;  // GL object names, kept out of this header
   EglContext egl_;
   RenderConfig config_;
-  CameraIntrinsics camera_;
+  CameraModel camera_;
   std::unique_ptr<DistortionMap> map_;
   std::unique_ptr<Gl> gl_;
   cv::Mat canvas_;

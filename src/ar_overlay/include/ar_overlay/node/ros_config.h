@@ -36,8 +36,8 @@ struct OverlayConfig {
 // Reads ~parameters into `c`; returns "" or a message naming the first bad one.
 std::string LoadConfig(const ros::NodeHandle& private_nh, OverlayConfig& c);
 
-// The camera of a camera_info; throws std::invalid_argument for a distortion
-// model other than plumb_bob / rational_polynomial (or none).
-CameraIntrinsics FromCameraInfo(const sensor_msgs::CameraInfo& info);
+// The camera of a camera_info (rig_model::FromCameraInfo); throws std::invalid_argument with its
+// reason (a distortion model other than plumb_bob / rational_polynomial, NaN, zero focal length...).
+CameraModel FromCameraInfo(const sensor_msgs::CameraInfo& info);
 
 }  // namespace ar_overlay

@@ -1,28 +1,26 @@
-// The cone layout from YAML, in rig_sim's layout schema
-// (src/rig_sim/config/layouts/*.yaml) so the simulator, bag replay and the rig
-// share one file:
-//   equilateral: {side_m: 1.5, height_m: 0.71, style: road}   # 3 cones, cone 1 on +x
-//   cones:                                                    # and/or explicit cones
-//     - {x_m: 1.0, y_m: 0.0, z_m: 0.0, height_m: 0.71, style: road, tau: 0.142857}
-// Other keys (boxes, patches, people, ground, albedo, collars, ...) describe
-// the simulated world and are ignored here. ROS-free.
+// The cone layout for the tracker: rig_model's layout file (the one schema and strict parser that
+// the simulator, bag replay and the rig share, rig_model/layout.h) reduced to the cones' model
+// points. The scenery in the file (boxes, patches, people, platforms, ground) is the simulator's.
+// ROS-free.
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "cone_tracker/vision/cone_pose.h"
+#include "rig_model/layout.h"
 
 namespace cone_tracker {
 
-struct LayoutLimits {
-  int min_cones = 3;
-  int max_cones = 8;
-  double min_height_m = 0.10;  // 4" indoor cone
-  double max_height_m = 0.91;  // 36" road cone
-};
+// The correspondence search without a prediction tries every assignment (cone_pose.cpp), so the
+// tracker takes at most this many of the 3 to 30 cones a layout may have.
+constexpr int kMaxTrackedCones = 8;
 
-// Returns false with a message naming the file and the offending field; *cones untouched then.
+// The cones of a layout, in file order (the equilateral cones first).
+std::vector<ConeModel> ConeModels(const rig_model::Layout& layout);
+
+// Returns false with rig_model's message (file, line, field) or the tracker's limit; *cones
+// untouched then.
 bool LoadLayoutFile(const std::string& path, std::vector<ConeModel>* cones, std::string* error);
 // The same on YAML text; `source` names it in messages.
 bool ParseLayout(const std::string& yaml_text, const std::string& source, std::vector<ConeModel>* cones,

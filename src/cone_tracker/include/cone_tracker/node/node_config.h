@@ -22,7 +22,7 @@ struct DebugImageConfig {
 };
 
 struct NodeConfig {
-  std::string layout_file;                      // rig_sim layout schema (layout.h); required
+  std::string layout_file;                      // rig_model layout schema (layout.h); required
   std::string fixed_frame = "cones";            // header.frame_id of the pose and the markers
   std::string camera_frame = "camera_optical";  // child frame of the tf prediction (pose_ekf's)
   // Prediction for correspondence and the motion gate (3.1.6, 6.4.2): tf

@@ -17,23 +17,13 @@
 #include <vector>
 
 #include "pose_math/pose.h"
+#include "rig_model/camera_model.h"
 
 namespace cone_tracker {
 
-// Pinhole intrinsics plus OpenCV's distortion vector (k1 k2 p1 p2 [k3 ...]).
-struct CameraModel {
-  double fx_px = 0.0;
-  double fy_px = 0.0;
-  double cx_px = 0.0;
-  double cy_px = 0.0;
-  std::vector<double> distortion;  // empty or all zero: no distortion
-
-  bool HasDistortion() const {
-    for (double k : distortion)
-      if (k != 0.0) return true;
-    return false;
-  }
-};
+// The rig's camera (rig_model): pinhole intrinsics plus OpenCV's distortion vector
+// (k1 k2 p1 p2 [k3 ...]), which the tracker hands to OpenCV as it is.
+using CameraModel = rig_model::CameraModel;
 
 enum class PnpMethod {
   kP3p,         // Fischler–Bolles (thesis 4.2.1), extra points pick the root

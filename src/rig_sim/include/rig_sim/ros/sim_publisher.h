@@ -28,7 +28,7 @@ struct SimPublisherConfig {
   bool publish_clock = true;
   bool serial_pty = false;
   std::string serial_link = "/tmp/rig_sim_crista";  // symlink to the pty slave
-  std::string layouts_dir;                          // default: the package's config/layouts
+  std::string layouts_dir;                          // default: rig_model's config/layouts
 };
 
 // Reads ~parameters; returns false with a message naming the bad parameter.

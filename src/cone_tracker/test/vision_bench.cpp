@@ -74,7 +74,7 @@ int main() {
     frames.push_back(RenderSim(
         scene, LookAt(Eigen::Vector3d(3.3 * std::cos(az), 3.3 * std::sin(az), 1.5), Eigen::Vector3d(0, 0, 0.3))));
   }
-  const CameraModel cam = ToCameraModel(frames[0].camera);
+  const CameraModel cam = frames[0].camera;
   const int w = frames[0].camera.width_px, h = frames[0].camera.height_px;
   Segmenter seg{SegmenterConfig()};
   const HsiBounds& k = seg.config().hsi;

@@ -16,12 +16,12 @@ rig_sim::TruePose LookAt(const Eigen::Vector3d& eye_m, const Eigen::Vector3d& ta
   return p;
 }
 
-SimFrame RenderSim(const rig_sim::Scene& scene, const rig_sim::TruePose& pose, const rig_sim::CameraConfig& camera,
+SimFrame RenderSim(const rig_sim::Scene& scene, const rig_sim::TruePose& pose, const CameraModel& camera,
                    double noise_sigma_dn) {
   rig_sim::RenderConfig rc;
   rc.noise_sigma_dn = noise_sigma_dn;
   rc.lighting.variation = 0.0;
-  const rig_sim::CameraModel cam(camera);
+  const CameraModel& cam = camera;
   const rig_sim::Renderer renderer(cam, scene, rc);
   SimFrame f;
   f.camera = camera;
@@ -41,13 +41,6 @@ SimFrame RenderSim(const rig_sim::Scene& scene, const rig_sim::TruePose& pose, c
     f.truth.push_back({project(c.peak_m()), project(c.base_m + c.radius_m() * toward)});
   }
   return f;
-}
-
-CameraModel ToCameraModel(const rig_sim::CameraConfig& c) {
-  CameraModel m;
-  m.fx_px = c.fu_px, m.fy_px = c.fv_px, m.cx_px = c.cu_px, m.cy_px = c.cv_px;
-  m.distortion = {c.k1, c.k2, c.p1, c.p2, c.k3};
-  return m;
 }
 
 }  // namespace cone_tracker

@@ -1,0 +1,63 @@
+#include "rig_model/camera_imu.h"
+
+#include <cmath>
+
+#include "pose_math/rotation.h"
+#include "rig_model/strict_yaml.h"
+
+namespace rig_model {
+namespace {
+
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+
+// A list of `n` finite numbers at where.key.
+Eigen::VectorXd ReadVector(const StrictReader& r, const YAML::Node& map, const std::string& where,
+                           const std::string& key, int n) {
+  const YAML::Node v = map[key];
+  const std::string field = FieldPath(where, key);
+  if (!v) r.Fail(map, field, "is missing");
+  if (!v.IsSequence() || static_cast<int>(v.size()) != n)
+    r.Fail(v, field, "must be a list of " + std::to_string(n) + " numbers");
+  Eigen::VectorXd out(n);
+  for (int i = 0; i < n; ++i) {
+    try {
+      out[i] = v[i].as<double>();
+    } catch (const YAML::Exception&) {
+      r.Fail(v, field, "must be a list of " + std::to_string(n) + " numbers");
+    }
+    if (!std::isfinite(out[i])) r.Fail(v, field, "must be finite");
+  }
+  return out;
+}
+
+}  // namespace
+
+Eigen::Matrix3d MountRotation(const Eigen::Vector3d& mount_error_rpy_deg) {
+  // IMU x forward = camera z; IMU y left = camera -x; IMU z up = camera -y.
+  Eigen::Matrix3d nominal;
+  nominal << 0, -1, 0,  //
+      0, 0, -1,         //
+      1, 0, 0;
+  const Eigen::Vector3d e = mount_error_rpy_deg * kDeg;  // fixed-axis roll, pitch, yaw = Rz Ry Rx (2.19)
+  return nominal * pose_math::RotationFromEulerZyx(pose_math::EulerZyx{e.z(), e.y(), e.x(), false});
+}
+
+CameraImuExtrinsics LoadCameraImuFile(const std::string& path) {
+  const YAML::Node root = LoadYamlFile(path);
+  const StrictReader r(path);
+  r.CheckKeys(root, {"camera_imu"}, "");
+  const YAML::Node c = root["camera_imu"];
+  if (!c) r.Fail(root, "camera_imu", "is missing");
+  r.CheckKeys(c, {"parent_frame", "child_frame", "translation_m", "rotation_xyzw"}, "camera_imu");
+  CameraImuExtrinsics e;
+  e.parent_frame = r.String(c, "camera_imu", "parent_frame", e.parent_frame);
+  e.child_frame = r.String(c, "camera_imu", "child_frame", e.child_frame);
+  if (c["translation_m"]) e.p_imu_in_camera_m = ReadVector(r, c, "camera_imu", "translation_m", 3);
+  const Eigen::VectorXd q = ReadVector(r, c, "camera_imu", "rotation_xyzw", 4);
+  if (std::abs(q.squaredNorm() - 1.0) > 1e-3)
+    r.Fail(c["rotation_xyzw"], "camera_imu.rotation_xyzw", "must be a unit quaternion [x, y, z, w]");
+  e.q_camera_imu = Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized();
+  return e;
+}
+
+}  // namespace rig_model
