@@ -90,7 +90,7 @@ std::string RunDetectCones(const std::string& config, int* status) {
 TEST(DetectConesConfig, ShippedLoadsAndMisspeltKeyIsRefused) {
   int status = -1;
   RunDetectCones("photos", &status);
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;  // the image is unreadable, not an error
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << status;  // the config loads; the image does not
   const std::string path = ::testing::TempDir() + "cone_tracker_misspelt_photos.yaml";
   std::ofstream(path) << "sat_min: 0.5\nsat_maxx: 1.0\n";
   const std::string err = RunDetectCones(path, &status);

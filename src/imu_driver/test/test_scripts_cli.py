@@ -72,13 +72,17 @@ class ScriptsCli(unittest.TestCase):
         self.assertNotIn("Traceback", err)
 
     def test_camera_imu_static_tf_refuses_a_bad_quaternion_with_exit_1(self):
-        code, err = run(os.path.join(SCRIPTS, "camera_imu_static_tf.py"), "__name:=bad_camera_imu_tf",
-                        "_camera_imu:={rotation_xyzw: [1.0, 1.0, 0.0, 0.0]}")
+        bad = os.path.join(self.dir, "camera_imu.yaml")
+        with open(bad, "w") as f:
+            f.write("camera_imu:\n  rotation_xyzw: [1.0, 1.0, 0.0, 0.0]\n")
+        code, err = run(os.path.join(SCRIPTS, "camera_imu_static_tf.py"), bad)
         self.assertEqual(code, 1, err)
-        code, err = run(os.path.join(SCRIPTS, "camera_imu_static_tf.py"), "__name:=unset_camera_imu_tf")
+        self.assertIn(bad, err)
+        code, err = run(os.path.join(SCRIPTS, "camera_imu_static_tf.py"), os.path.join(self.dir, "missing.yaml"))
         self.assertEqual(code, 1, err)
         self.assertNotIn("Traceback", err)
-
+        code, err = run(os.path.join(SCRIPTS, "camera_imu_static_tf.py"))
+        self.assertEqual(code, 2, err)  # no file given: usage
 
 if __name__ == "__main__":
     rospy.init_node("test_scripts_cli", anonymous=True)

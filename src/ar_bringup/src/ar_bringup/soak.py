@@ -90,8 +90,8 @@ class Soak:
         trk = self.find_status("poses published")
         imu = self.find_status("samples missed")
         num = lambda d, k: float(d.get(k, "nan"))  # noqa: E731
-        ekf_camera = sum(num(ekf, k) for k in ("camera updates", "NaN rejected", "invalid rejected",
-                                                "numerical failures"))
+        ekf_camera = sum(num(ekf, k) for k in ("camera updates", "camera poses rejected (chi2 gate)", "NaN rejected",
+                                                "invalid rejected", "numerical failures"))
         ekf_imu = sum(num(ekf, k) for k in ("gyro updates", "IMU before the first pose",
                                              "IMU without camera-IMU tf"))
         out = {
