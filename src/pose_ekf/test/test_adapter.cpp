@@ -120,16 +120,5 @@ TEST(Adapter, Rep145MissingGyroIsNotUsed) {
   EXPECT_LT((m.accel_camera_m_s2 - kQCameraImu * Eigen::Vector3d(0, 0, 9.8)).norm(), 1e-12);
 }
 
-TEST(NodeConfig, EnumParsersNameTheParameter) {
-  EXPECT_EQ(pose_ekf::ParseAccelMode("orientation"), pose_ekf::AccelMode::kOrientation);
-  EXPECT_EQ(pose_ekf::ParseQuatIntegration("exact"), pose_ekf::QuatIntegration::kExact);
-  try {
-    pose_ekf::ParseAccelMode("sideways");
-    FAIL();
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("accel_mode"), std::string::npos);
-  }
-}
-
 }  // namespace
 }  // namespace pose_ekf_test

@@ -16,12 +16,17 @@
 #include "pose_ekf/PoseEkfConfig.h"
 #include "pose_ekf/node/pose_ekf_adapter.h"
 #include "rig_model/ros/diagnostics.h"
+#include "rig_model/ros/param_table_ros.h"
 
 namespace pose_ekf {
 
 class PoseEkfNodelet : public nodelet::Nodelet {
  private:
   void onInit() override;
+  bool LoadOrRefuse(NodeConfig* config);
+  void AddDiagnostics(const NodeConfig& config);
+  void AdvertiseAndSubscribe(const NodeConfig& config);
+  void StartReconfigure(const NodeConfig& config);
   void OnCamera(const geometry_msgs::PoseWithCovarianceStampedConstPtr& msg);
   void OnImu(const sensor_msgs::ImuConstPtr& msg);
   void OnOutputTimer(const ros::TimerEvent& event);
@@ -52,22 +57,35 @@ class PoseEkfNodelet : public nodelet::Nodelet {
 };
 
 void PoseEkfNodelet::onInit() {
-  ros::NodeHandle& nh = getNodeHandle();
-  ros::NodeHandle& pnh = getPrivateNodeHandle();
-  diagnostics_ = std::make_unique<rig_model::WallDiagnostics>(nh, pnh, getName(), "pose_ekf");
+  diagnostics_ =
+      std::make_unique<rig_model::WallDiagnostics>(getNodeHandle(), getPrivateNodeHandle(), getName(), "pose_ekf");
   NodeConfig config;
+  if (!LoadOrRefuse(&config)) return;
+  adapter_ = std::make_unique<PoseEkfAdapter>(config);
+  tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
+  tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, getNodeHandle());
+  tf_broadcaster_ = std::make_unique<tf2_ros::TransformBroadcaster>();
+  AddDiagnostics(config);
+  AdvertiseAndSubscribe(config);
+  StartReconfigure(config);
+  last_now_ = ros::Time::now();
+  NODELET_INFO("pose_ekf: fusing cone_tracker/pose and imu/data_raw into tf %s -> %s", config.cones_frame.c_str(),
+               config.camera_frame.c_str());
+}
+
+// A refused config stays on /diagnostics as ERROR naming the parameter; the nodelet does nothing else.
+bool PoseEkfNodelet::LoadOrRefuse(NodeConfig* config) {
   try {
-    config = LoadConfig(pnh);
+    *config = LoadConfig(getPrivateNodeHandle());
+    return true;
   } catch (const std::exception& e) {
     NODELET_FATAL(
         "%s", diagnostics_->RefuseConfig("filter", "pose_ekf", std::string("invalid parameter: ") + e.what()).c_str());
-    return;
+    return false;
   }
-  adapter_ = std::make_unique<PoseEkfAdapter>(config);
-  tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
-  tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
-  tf_broadcaster_ = std::make_unique<tf2_ros::TransformBroadcaster>();
+}
 
+void PoseEkfNodelet::AddDiagnostics(const NodeConfig& config) {
   rig_model::RateCheckConfig imu_rate = rig_model::RateCheckConfig::Around(config.imu_expected_rate_hz, 0.2);
   imu_freq_ = std::make_unique<rig_model::StampRateTask>("imu input", imu_rate);
   rig_model::RateCheckConfig camera_rate = rig_model::RateCheckConfig::Around(config.camera_expected_rate_hz, 0.5);
@@ -76,7 +94,10 @@ void PoseEkfNodelet::onInit() {
   diagnostics_->Add(*imu_freq_);
   diagnostics_->Add(*camera_freq_);
   diagnostics_->Add("filter", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { Diagnose(s); });
+}
 
+void PoseEkfNodelet::AdvertiseAndSubscribe(const NodeConfig& config) {
+  ros::NodeHandle& nh = getNodeHandle();
   pose_pub_ = nh.advertise<geometry_msgs::PoseWithCovarianceStamped>("pose_ekf/pose", 10);
   odom_pub_ = nh.advertise<nav_msgs::Odometry>("pose_ekf/odometry", 10);
   camera_sub_ = nh.subscribe("cone_tracker/pose", 10, &PoseEkfNodelet::OnCamera, this);
@@ -84,51 +105,22 @@ void PoseEkfNodelet::onInit() {
   if (config.output_rate_hz > 0.0) {
     output_timer_ = nh.createTimer(ros::Duration(1.0 / config.output_rate_hz), &PoseEkfNodelet::OnOutputTimer, this);
   }
+}
 
-  reconfigure_ = std::make_unique<dynamic_reconfigure::Server<PoseEkfConfig>>(reconfigure_mutex_, pnh);
-  PoseEkfConfig current;  // start from the loaded parameters, not the .cfg defaults
-  const EkfConfig& e = config.ekf;
-  current.sigma_q_per_sqrt_s = e.sigma_q_per_sqrt_s;
-  current.sigma_omega_rad_s_per_sqrt_s = e.sigma_omega_rad_s_per_sqrt_s;
-  current.sigma_p_m_per_sqrt_s = e.sigma_p_m_per_sqrt_s;
-  current.sigma_v_m_s_per_sqrt_s = e.sigma_v_m_s_per_sqrt_s;
-  current.sigma_a_m_s2_per_sqrt_s = e.sigma_a_m_s2_per_sqrt_s;
-  current.sigma_gyro_bias_rad_s_per_sqrt_s = e.sigma_gyro_bias_rad_s_per_sqrt_s;
-  current.sigma_gyro_rad_s = e.sigma_gyro_rad_s;
-  current.sigma_accel_m_s2 = e.sigma_accel_m_s2;
-  current.accel_gate_m_s2 = e.accel_gate_m_s2;
-  current.camera_gate_chi2 = e.camera_gate_chi2;
-  current.reinit_after_rejections = e.reinit_after_rejections;
-  current.use_camera = e.use_camera;
-  current.use_gyro = e.use_gyro;
-  current.use_accel = e.accel_mode != AccelMode::kOff;
-  current.joseph_update = e.joseph_update;
-  reconfigure_->updateConfig(current);
+// The server starts from the loaded parameters, not the .cfg defaults.
+void PoseEkfNodelet::StartReconfigure(const NodeConfig& config) {
+  reconfigure_ =
+      std::make_unique<dynamic_reconfigure::Server<PoseEkfConfig>>(reconfigure_mutex_, getPrivateNodeHandle());
+  reconfigure_->updateConfig(rig_model::ToReconfigure<NodeConfig, PoseEkfConfig>(Params(), config));
   reconfigure_->setCallback([this](PoseEkfConfig& cfg, uint32_t level) { OnReconfigure(cfg, level); });
-  last_now_ = ros::Time::now();
-  NODELET_INFO("pose_ekf: fusing cone_tracker/pose and imu/data_raw into tf %s -> %s", config.cones_frame.c_str(),
-               config.camera_frame.c_str());
 }
 
 void PoseEkfNodelet::OnReconfigure(PoseEkfConfig& cfg, uint32_t /*level*/) {
-  EkfConfig e = adapter_->config().ekf;
-  e.sigma_q_per_sqrt_s = cfg.sigma_q_per_sqrt_s;
-  e.sigma_omega_rad_s_per_sqrt_s = cfg.sigma_omega_rad_s_per_sqrt_s;
-  e.sigma_p_m_per_sqrt_s = cfg.sigma_p_m_per_sqrt_s;
-  e.sigma_v_m_s_per_sqrt_s = cfg.sigma_v_m_s_per_sqrt_s;
-  e.sigma_a_m_s2_per_sqrt_s = cfg.sigma_a_m_s2_per_sqrt_s;
-  e.sigma_gyro_bias_rad_s_per_sqrt_s = cfg.sigma_gyro_bias_rad_s_per_sqrt_s;
-  e.sigma_gyro_rad_s = cfg.sigma_gyro_rad_s;
-  e.sigma_accel_m_s2 = cfg.sigma_accel_m_s2;
-  e.accel_gate_m_s2 = cfg.accel_gate_m_s2;
-  e.camera_gate_chi2 = cfg.camera_gate_chi2;
-  e.reinit_after_rejections = cfg.reinit_after_rejections;
-  e.use_camera = cfg.use_camera;
-  e.use_gyro = cfg.use_gyro;
-  e.accel_mode = cfg.use_accel ? adapter_->config().accel_mode_when_on : AccelMode::kOff;
-  e.joseph_update = cfg.joseph_update;
+  NodeConfig c = adapter_->config();
   try {
-    adapter_->Reconfigure(e);
+    rig_model::FromReconfigure(Params(), cfg, &c);
+    ValidateConfig(&c);  // use_accel switches ekf.accel_mode between off and ~accel_mode
+    adapter_->Reconfigure(c.ekf);
   } catch (const std::exception& ex) {
     NODELET_WARN("pose_ekf: reconfigure refused: %s", ex.what());
   }

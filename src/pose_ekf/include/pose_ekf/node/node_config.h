@@ -1,10 +1,12 @@
-// Parameters of the pose_ekf nodelet: frames, output rate and the core's EkfConfig.
+// Parameters of the pose_ekf nodelet: frames, output rate and the core's EkfConfig, described once by
+// Params(), the table that maps NodeConfig <-> ROS parameters <-> dynamic_reconfigure <-> YAML.
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "pose_ekf/core/config.h"
+#include "rig_model/param_table.h"
 
 namespace ros {
 class NodeHandle;
@@ -19,37 +21,36 @@ struct NodeConfig {
   double output_rate_hz = 0.0;  // > 0: also publish the pose predicted to now at this rate (thesis: 40 Hz)
   double imu_expected_rate_hz = 100.0;
   double camera_expected_rate_hz = 30.0;
-  double tf_timeout_s = 0.05;                                         // wait for the camera-IMU static transform
-  AccelMode accel_mode_when_on = AccelMode::kPositionAndOrientation;  // for the use_accel switch
+  double tf_timeout_s = 0.05;  // wait for the camera-IMU static transform
+  // The parameters behind ekf.accel_mode and ekf.quat_integration (ApplyModes): the GUI switch
+  // use_accel, the model it switches on (an AccelMode), and a QuatIntegration, as the table's ints.
+  bool use_accel = true;
+  int accel_mode = static_cast<int>(AccelMode::kPositionAndOrientation);
+  int quat_integration = static_cast<int>(QuatIntegration::kFirstOrder);
+  // ~config_file: a note set by pose_ekf.launch naming the YAML it loaded, so that errors name the file.
+  std::string config_file;
   EkfConfig ekf;
 };
 
-// Where parameters come from: the ROS parameter server or a YAML file (ekf_replay).
-// Each Get leaves *value untouched when the parameter is absent.
-class ParamSource {
- public:
-  virtual ~ParamSource() = default;
-  virtual void Get(const std::string& name, double* value) const = 0;
-  virtual void Get(const std::string& name, bool* value) const = 0;
-  virtual void Get(const std::string& name, std::string* value) const = 0;
-};
-
-// Reads the parameters (names as in NodeConfig/EkfConfig; enums as strings:
-// accel_mode off|orientation|position_orientation, quat_integration
-// first_order|exact). Throws std::invalid_argument naming the bad parameter.
-NodeConfig LoadConfig(const ParamSource& params);
-// From the private namespace; a parameter there that LoadConfig does not read is refused
-// ("parameter ~sigma_gyr_rad_s is unknown (did you mean ~sigma_gyro_rad_s?)"), naming ~config_file,
-// the YAML the launch file loaded, when it is set (and checking that file's keys line by line).
-NodeConfig LoadConfig(const ros::NodeHandle& private_nh);
-// The same from a YAML file of config/pose_ekf.yaml's form; an unknown key is refused with the file,
-// its line and the nearest known key.
-NodeConfig LoadConfigFile(const std::string& yaml_path);
-// Every parameter name LoadConfig reads (recorded from LoadConfig itself).
+// The one parameter table: every name under ~, in the YAML files and in cfg/PoseEkf.cfg, with the unit
+// in the name. Enums as names or indices: accel_mode off|orientation|position_orientation,
+// quat_integration first_order|exact.
+const rig_model::ParamTable<NodeConfig>& Params();
+// Every parameter name (Params().Names()).
 std::vector<std::string> ParamNames();
 
-// Parsers shared with dynamic_reconfigure and tools; throw std::invalid_argument.
-AccelMode ParseAccelMode(const std::string& s);
-QuatIntegration ParseQuatIntegration(const std::string& s);
+// Sets ekf.accel_mode (use_accel ? accel_mode : off) and ekf.quat_integration from the table's fields.
+void ApplyModes(NodeConfig* config);
+// ApplyModes, then the range checks; throws std::invalid_argument naming the parameter.
+void ValidateConfig(NodeConfig* config);
+
+// From the private namespace (rig_model::LoadParams: type-checked; a parameter there that the table
+// does not know is refused, "parameter ~sigma_gyr_rad_s is unknown (did you mean ~sigma_gyro_rad_s?)"),
+// then ValidateConfig. When ~config_file is set its keys are checked line by line first and errors
+// name it. Throws std::invalid_argument.
+NodeConfig LoadConfig(const ros::NodeHandle& private_nh);
+// The same table from a YAML file of config/pose_ekf.yaml's form (ekf_replay --config); an unknown key
+// or a wrong type is refused with the file, its line and (for a typo) the nearest known key.
+NodeConfig LoadConfigFile(const std::string& yaml_path);
 
 }  // namespace pose_ekf
