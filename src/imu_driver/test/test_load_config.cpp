@@ -3,8 +3,9 @@
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 
-#include "imu_driver/node/ros_adapter.h"
 #include <fstream>
+#include "imu_driver/node/ros_adapter.h"
+#include "rig_model/ros/launch_params.h"
 
 namespace imu_driver {
 namespace {
@@ -111,6 +112,85 @@ TEST(LoadConfig, CalibrationFilesThatCannotBeUsedAreRefusedByName) {
   const DriverConfig d = LoadConfig(c);
   EXPECT_TRUE(d.gyro_bias_calibrated);
   EXPECT_DOUBLE_EQ(d.gyro_bias_rad_s(1), 0.02);
+}
+
+TEST(LoadConfig, WrongTypesAreRefusedByName) {
+  ros::NodeHandle a("~wrong_type");
+  a.setParam("rate_hz", "fast");
+  EXPECT_EQ(RefusalOf(a), "parameter ~rate_hz must be a number");
+  ros::NodeHandle b("~wrong_type_nested");
+  b.setParam("time_sync/window_s", true);
+  EXPECT_EQ(RefusalOf(b), "parameter ~time_sync/window_s must be a number");
+  ros::NodeHandle c("~wrong_type_int");
+  c.setParam("baud", 115200.5);
+  EXPECT_EQ(RefusalOf(c), "parameter ~baud must be an integer");
+  ros::NodeHandle d("~wrong_type_list");
+  d.setParam("gyro_bias_rad_s", "zero");
+  EXPECT_NE(RefusalOf(d).find("wrong_type_list/gyro_bias_rad_s: must be a list of 3 numbers"), std::string::npos)
+      << RefusalOf(d);
+  ros::NodeHandle e("~wrong_type_bool");
+  e.setParam("calibrate_on_start", 1);
+  EXPECT_EQ(RefusalOf(e), "parameter ~calibrate_on_start must be true or false");
+}
+
+TEST(LoadConfig, TheTableCoversEveryScalarParameter) {
+  ros::NodeHandle nh("~every");
+  nh.setParam("port", "/dev/ttyS2");
+  nh.setParam("baud", 57600);
+  nh.setParam("frame_id", "crista");
+  nh.setParam("rate_hz", 50);  // an integer where a double is wanted
+  nh.setParam("stamp_at_interval_midpoint", false);
+  nh.setParam("retry_initial_s", 0.2);
+  nh.setParam("retry_max_s", 4.0);
+  nh.setParam("time_source", 1);  // an enum's index
+  nh.setParam("time_sync/slack_ppm", 30.0);
+  nh.setParam("time_sync/window_s", 2.0);
+  nh.setParam("time_sync/max_skew_ppm", 500.0);
+  nh.setParam("time_sync/jump_threshold_s", 0.2);
+  nh.setParam("subtract_gyro_bias", false);
+  nh.setParam("publish_in_camera_frame", false);
+  nh.setParam("camera_frame_id", "cam");
+  nh.setParam("calibration_duration_s", 7.0);
+  nh.setParam("calibrate_on_start", true);
+  nh.setParam("calibration_output_file", "/tmp/gyro.yaml");
+  nh.setParam("stale_after_s", 0.7);
+  nh.setParam("rate_tolerance", 0.2);
+  nh.setParam("config_file", "");
+  nh.setParam("gyro_calibration_file", "");
+  nh.setParam("camera_imu_file", "");
+  EXPECT_EQ(DriverParamTable().Names().size(), 23u);
+  const DriverConfig c = LoadConfig(nh);
+  EXPECT_EQ(c.reader.port, "/dev/ttyS2");
+  EXPECT_EQ(c.reader.baud, 57600);
+  EXPECT_EQ(c.frame_id, "crista");
+  EXPECT_DOUBLE_EQ(c.reader.stream.rate_hz, 50.0);
+  EXPECT_FALSE(c.stamp_at_interval_midpoint);
+  EXPECT_DOUBLE_EQ(c.reader.retry_initial_s, 0.2);
+  EXPECT_DOUBLE_EQ(c.reader.retry_max_s, 4.0);
+  EXPECT_EQ(c.reader.stream.time_source, StreamConfig::TimeSource::kPps);
+  EXPECT_DOUBLE_EQ(c.reader.stream.time_sync.slack_ppm, 30.0);
+  EXPECT_DOUBLE_EQ(c.reader.stream.time_sync.window_s, 2.0);
+  EXPECT_DOUBLE_EQ(c.reader.stream.time_sync.max_skew_ppm, 500.0);
+  EXPECT_DOUBLE_EQ(c.reader.stream.time_sync.jump_threshold_s, 0.2);
+  EXPECT_FALSE(c.subtract_gyro_bias);
+  EXPECT_FALSE(c.publish_in_camera_frame);
+  EXPECT_EQ(c.camera_frame_id, "cam");
+  EXPECT_DOUBLE_EQ(c.calibration_duration_s, 7.0);
+  EXPECT_TRUE(c.calibrate_on_start);
+  EXPECT_EQ(c.calibration_output_file, "/tmp/gyro.yaml");
+  EXPECT_DOUBLE_EQ(c.stale_after_s, 0.7);
+  EXPECT_DOUBLE_EQ(c.rate_tolerance, 0.2);
+}
+
+TEST(LoadConfig, EveryLaunchFileParameterIsInTheTable) {
+  for (const std::string node : {"imu_driver_node", "ImuDriverNodelet"}) {
+    const auto params = rig_model::LaunchParams(std::string(IMU_DRIVER_DIR) + "/launch/imu_driver.launch", node);
+    EXPECT_EQ(params.size(), 7u) << node;
+    for (const auto& p : params) EXPECT_TRUE(DriverParamTable().Has(p.name)) << node << ": " << p.name;
+    ros::NodeHandle nh("~launch_" + node);
+    rig_model::SetLaunchParams(nh, params);  // the $(find ...) files are ~shipped's (load_config.test)
+    EXPECT_EQ(RefusalOf(nh), "") << node;
+  }
 }
 
 }  // namespace

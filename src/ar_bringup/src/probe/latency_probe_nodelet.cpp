@@ -19,6 +19,7 @@
 #include <pluginlib/class_list_macros.hpp>
 
 #include "ar_bringup/latency_matcher.h"
+#include "ar_bringup/probe_config.h"
 
 namespace ar_bringup {
 namespace {
@@ -50,9 +51,12 @@ class LatencyProbeNodelet : public nodelet::Nodelet {
   void onInit() override {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
-    pnh.param<std::string>("output_file", output_file_, "");
-    pnh.param<std::string>("fixed_frame", fixed_frame_, "cones");
-    pnh.param<std::string>("camera_frame", camera_frame_, "camera_optical");
+    try {
+      config_ = LoadProbeConfig(pnh);
+    } catch (const std::invalid_argument& e) {
+      NODELET_FATAL("latency_probe: %s; not measuring", e.what());
+      return;
+    }
     // Large queues: the probe must not lose what it counts.
     image_sub_ = nh.subscribe("camera/image_raw", 100, &LatencyProbeNodelet::OnImage, this);
     pose_sub_ = nh.subscribe("cone_tracker/pose", 100, &LatencyProbeNodelet::OnTrackerPose, this);
@@ -88,7 +92,7 @@ class LatencyProbeNodelet : public nodelet::Nodelet {
     const double now = SteadyNow();
     std::lock_guard<std::mutex> lock(mutex_);
     for (const auto& t : msg->transforms) {
-      if (t.header.frame_id != fixed_frame_ || t.child_frame_id != camera_frame_) continue;
+      if (t.header.frame_id != config_.fixed_frame || t.child_frame_id != config_.camera_frame) continue;
       ++tf_;
       matcher_.OnTf(t.header.stamp.toNSec(), now);
     }
@@ -112,8 +116,8 @@ class LatencyProbeNodelet : public nodelet::Nodelet {
       for (size_t i = 0; i < rss_kb_.size(); ++i) out << (i ? ", " : "") << rss_kb_[i];
       out << "]}\n";
     }
-    if (output_file_.empty()) return;
-    const std::string tmp = output_file_ + ".tmp";
+    if (config_.output_file.empty()) return;
+    const std::string tmp = config_.output_file + ".tmp";
     {
       std::ofstream f(tmp);
       f << out.str();
@@ -122,11 +126,11 @@ class LatencyProbeNodelet : public nodelet::Nodelet {
         return;
       }
     }
-    if (std::rename(tmp.c_str(), output_file_.c_str()) != 0)
-      NODELET_WARN_THROTTLE(10.0, "latency_probe: cannot rename %s to %s", tmp.c_str(), output_file_.c_str());
+    if (std::rename(tmp.c_str(), config_.output_file.c_str()) != 0)
+      NODELET_WARN_THROTTLE(10.0, "latency_probe: cannot rename %s to %s", tmp.c_str(), config_.output_file.c_str());
   }
 
-  std::string output_file_, fixed_frame_, camera_frame_;
+  ProbeConfig config_;
   ros::Subscriber image_sub_, pose_sub_, ekf_sub_, imu_sub_, tf_sub_;
   ros::WallTimer timer_;
   std::mutex mutex_;

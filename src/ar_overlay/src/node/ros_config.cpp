@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "rig_model/ros/conversions.h"
+#include "rig_model/ros/param_table_ros.h"
 
 namespace ar_overlay {
 
@@ -14,29 +15,33 @@ CameraModel FromCameraInfo(const sensor_msgs::CameraInfo& info) {
   return camera;
 }
 
-std::string LoadConfig(const ros::NodeHandle& nh, OverlayConfig& c) {
-  nh.param("scene_yaml", c.scene_yaml, c.scene_yaml);
-  nh.param("fixed_frame", c.fixed_frame, c.fixed_frame);
-  nh.param("camera_frame", c.camera_frame, c.camera_frame);
-  std::string mode = c.pose_mode == PoseMode::kPredicted ? "predicted" : "image_stamp";
-  nh.param("pose_mode", mode, mode);
-  nh.param("tf_timeout_s", c.tf_timeout_s, c.tf_timeout_s);
-  nh.param("render_rate_hz", c.render_rate_hz, c.render_rate_hz);
-  nh.param("display_latency_s", c.display_latency_s, c.display_latency_s);
-  nh.param("max_prediction_s", c.max_prediction_s, c.max_prediction_s);
-  nh.param("velocity_window_s", c.velocity_window_s, c.velocity_window_s);
-  nh.param("near_m", c.near_m, c.near_m);
-  nh.param("far_m", c.far_m, c.far_m);
-  nh.param("lod_max_error_px", c.lod_max_error_px, c.lod_max_error_px);
-  nh.param("show_window", c.show_window, c.show_window);
-  nh.param("window_name", c.window_name, c.window_name);
+const rig_model::ParamTable<OverlayConfig>& Params() {
+  using C = OverlayConfig;
+  static const rig_model::ParamTable<C> table =
+      rig_model::ParamTable<C>()
+          .Add("scene_yaml", [](C& c) -> std::string& { return c.scene_yaml; })
+          .Add("fixed_frame", [](C& c) -> std::string& { return c.fixed_frame; })
+          .Add("camera_frame", [](C& c) -> std::string& { return c.camera_frame; })
+          .AddEnum("pose_mode", [](C& c) -> int& { return c.pose_mode; }, {"image_stamp", "predicted"})
+          .Add("tf_timeout_s", [](C& c) -> double& { return c.tf_timeout_s; })
+          .Add("render_rate_hz", [](C& c) -> double& { return c.render_rate_hz; })
+          .Add("display_latency_s", [](C& c) -> double& { return c.display_latency_s; })
+          .Add("max_prediction_s", [](C& c) -> double& { return c.max_prediction_s; })
+          .Add("velocity_window_s", [](C& c) -> double& { return c.velocity_window_s; })
+          .Add("near_m", [](C& c) -> double& { return c.near_m; })
+          .Add("far_m", [](C& c) -> double& { return c.far_m; })
+          .Add("lod_max_error_px", [](C& c) -> double& { return c.lod_max_error_px; })
+          .Add("show_window", [](C& c) -> bool& { return c.show_window; })
+          .Add("window_name", [](C& c) -> std::string& { return c.window_name; });
+  return table;
+}
 
-  if (mode == "image_stamp")
-    c.pose_mode = PoseMode::kImageStamp;
-  else if (mode == "predicted")
-    c.pose_mode = PoseMode::kPredicted;
-  else
-    return "pose_mode '" + mode + "' is neither image_stamp nor predicted";
+std::string LoadConfig(const ros::NodeHandle& nh, OverlayConfig& c) {
+  try {
+    rig_model::LoadParams(nh, Params(), &c, {"image"});  // ~image/...: image_transport's plugins' own
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
   if (!c.scene_yaml.empty() && !std::ifstream(c.scene_yaml)) return "scene_yaml '" + c.scene_yaml + "' cannot be read";
   if (c.fixed_frame.empty()) return "fixed_frame is empty";
   if (!(c.tf_timeout_s >= 0 && c.tf_timeout_s <= 1)) return "tf_timeout_s must be in [0, 1]";

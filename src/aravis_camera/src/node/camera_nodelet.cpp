@@ -37,27 +37,25 @@ class CameraNodelet : public nodelet::Nodelet {
       return;
     }
     ros::NodeHandle camera_nh(getNodeHandle(), "camera");
-    std::string url;
-    pnh.param("camera_info_url", url, std::string());
-    // camera_calibration writes files named after the camera; the rig's is "camera".
-    std::string cinfo_name;
-    pnh.param("camera_info_name", cinfo_name, std::string("camera"));
-    cinfo_ = std::make_shared<camera_info_manager::CameraInfoManager>(camera_nh, cinfo_name, url);
+    cinfo_ = std::make_shared<camera_info_manager::CameraInfoManager>(camera_nh, config_.camera_info_name,
+                                                                      config_.camera_info_url);
     image_transport::ImageTransport it(camera_nh);
     publisher_ = it.advertiseCamera("image_raw", 1);
 
     frequency_ = std::make_unique<rig_model::StampRateTask>(
-        "frame rate", rig_model::RateCheckConfig::Around(config_.frame_rate_hz, kRateTolerance));
+        "frame rate", rig_model::RateCheckConfig::Around(config_.camera.frame_rate_hz, kRateTolerance));
     diagnostics_->Add(*frequency_);
 
     device_ = std::make_unique<CameraDevice>(
-        config_, [this](const sensor_msgs::ImagePtr& image, const FrameInfo&) { Publish(image); },
+        config_.camera, [this](const sensor_msgs::ImagePtr& image, const FrameInfo&) { Publish(image); },
         [this](LogLevel level, const std::string& msg) { LogFromDevice(level, msg); });
 
     reconfigure_ = std::make_unique<dynamic_reconfigure::Server<CameraLiveConfig>>(pnh);
-    reconfigure_->setCallback([this](CameraLiveConfig& c, uint32_t) {
-      frequency_->SetRateLimits(c.frame_rate * (1.0 - kRateTolerance), c.frame_rate * (1.0 + kRateTolerance));
-      device_->UpdateSettings(LiveSettings{c.frame_rate, c.exposure_auto, c.exposure, c.gain});
+    reconfigure_->updateConfig(ToLive(config_));  // seeded from the table, as the parameters loaded
+    reconfigure_->setCallback([this](CameraLiveConfig& live, uint32_t) {
+      const CameraConfig c = FromLive(live, config_).camera;
+      frequency_->SetRateLimits(c.frame_rate_hz * (1.0 - kRateTolerance), c.frame_rate_hz * (1.0 + kRateTolerance));
+      device_->UpdateSettings(LiveSettings{c.frame_rate_hz, c.exposure_auto, c.exposure_us, c.gain_db});
     });
     device_->Start();
   }
@@ -113,7 +111,7 @@ class CameraNodelet : public nodelet::Nodelet {
     stat.add("last error", s.last_error);
   }
 
-  CameraConfig config_;
+  NodeConfig config_;
   std::string config_error_;
   std::shared_ptr<camera_info_manager::CameraInfoManager> cinfo_;
   image_transport::CameraPublisher publisher_;

@@ -7,9 +7,9 @@
 #include <stdexcept>
 #include <vector>
 
-#include "imu_driver/core/serial_port.h"
 #include "imu_driver/core/calibration_files.h"
-#include "rig_model/ros/params.h"
+#include "imu_driver/core/serial_port.h"
+#include "rig_model/ros/param_table_ros.h"
 #include "rig_model/strict_yaml.h"
 
 namespace imu_driver {
@@ -19,17 +19,16 @@ namespace {
   throw std::invalid_argument("parameter " + pnh.resolveName(name) + ": " + why);
 }
 
-double PositiveParam(const ros::NodeHandle& pnh, const std::string& name, double def) {
-  double v = def;
-  pnh.param(name, v, def);
+void RequirePositive(const ros::NodeHandle& pnh, const std::string& name, double v) {
   if (!(v > 0.0) || !std::isfinite(v)) Refuse(pnh, name, "must be a positive number, got " + std::to_string(v));
-  return v;
 }
 
+// The lists the table cannot hold (3-vectors); a value that is not a list of numbers is refused.
 Eigen::Vector3d Vector3Param(const ros::NodeHandle& pnh, const std::string& name, const Eigen::Vector3d& def,
                              bool non_negative) {
   std::vector<double> v;
-  if (!pnh.getParam(name, v)) return def;
+  if (!pnh.hasParam(name)) return def;
+  if (!pnh.getParam(name, v)) Refuse(pnh, name, "must be a list of 3 numbers");
   if (v.size() != 3) Refuse(pnh, name, "must be a list of 3 numbers, got " + std::to_string(v.size()));
   const Eigen::Vector3d e(v[0], v[1], v[2]);
   if (!e.allFinite() || (non_negative && e.minCoeff() < 0.0)) {
@@ -38,44 +37,29 @@ Eigen::Vector3d Vector3Param(const ros::NodeHandle& pnh, const std::string& name
   return e;
 }
 
-// Every parameter LoadConfig reads (one level deep), plus diagnostic_updater's own.
-const std::vector<std::string> kParamNames = {"config_file",
-                                              "port",
-                                              "baud",
-                                              "frame_id",
-                                              "rate_hz",
-                                              "stamp_at_interval_midpoint",
-                                              "retry_initial_s",
-                                              "retry_max_s",
-                                              "time_source",
-                                              "time_sync",
-                                              "gyro_calibration_file",
-                                              "gyro_calibration_source",
-                                              "gyro_bias_rad_s",
-                                              "subtract_gyro_bias",
-                                              "gyro_noise_sigma_rad_s",
-                                              "accel_noise_sigma_m_s2",
-                                              "publish_in_camera_frame",
-                                              "camera_frame_id",
-                                              "camera_imu_file",
-                                              "camera_imu",
-                                              "calibration_duration_s",
-                                              "calibrate_on_start",
-                                              "calibration_output_file",
-                                              "stale_after_s",
-                                              "rate_tolerance",
-                                              "diagnostic_period"};
-const std::vector<std::string> kTimeSyncNames = {"slack_ppm", "window_s", "max_skew_ppm", "jump_threshold_s"};
+// Names under ~ that are not in the table: the lists read by Vector3Param and from ~camera_imu/
+// (the 3.2.2 calibration YAML's keys, when it is rosparam-loaded), and the calibration YAML's
+// gyro_calibration_source (a note, accepted and not used).
+std::vector<std::string> ListNames() {
+  std::vector<std::string> names = {"gyro_bias_rad_s", "gyro_noise_sigma_rad_s", "accel_noise_sigma_m_s2",
+                                    "gyro_calibration_source"};
+  for (const std::string& key : CameraImuKeys()) names.push_back("camera_imu/" + key);
+  return names;
+}
 
-// CheckParamNames one namespace down, naming parameters from the private namespace (~time_sync/x).
-void CheckNestedNames(const ros::NodeHandle& pnh, const std::string& ns, const std::vector<std::string>& known) {
-  try {
-    rig_model::CheckParamNames(ros::NodeHandle(pnh, ns), known);
-  } catch (const std::invalid_argument& e) {
-    std::string m = e.what();
-    for (size_t p = m.find('~'); p != std::string::npos; p = m.find('~', p + ns.size() + 2)) m.insert(p + 1, ns + "/");
-    throw std::invalid_argument(m);
+// The keys of ~config_file's mapping at `ns` ("" for the top level; "time_sync"), from the
+// parameter names: a nested name "time_sync/window_s" is "time_sync" at the top, "window_s" inside.
+std::vector<std::string> FileKeys(const std::string& ns) {
+  std::vector<std::string> names = DriverParamTable().Names(), keys;
+  const std::vector<std::string> lists = ListNames();
+  names.insert(names.end(), lists.begin(), lists.end());
+  for (const std::string& name : names) {
+    const std::string key = ns.empty()                                      ? name.substr(0, name.find('/'))
+                            : name.compare(0, ns.size() + 1, ns + "/") == 0 ? name.substr(ns.size() + 1)
+                                                                            : "";
+    if (!key.empty() && std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
   }
+  return keys;
 }
 
 // ~config_file: set by imu_driver.launch to the YAML it loaded here (config/imu_driver.yaml), so
@@ -84,8 +68,8 @@ void CheckConfigFile(const std::string& path) {
   try {
     const rig_model::StrictReader r(path);
     const YAML::Node root = rig_model::LoadYamlFile(path);
-    r.CheckKeys(root, kParamNames, "");
-    if (root["time_sync"]) r.CheckKeys(root["time_sync"], kTimeSyncNames, "time_sync");
+    r.CheckKeys(root, FileKeys(""), "");
+    if (root["time_sync"]) r.CheckKeys(root["time_sync"], FileKeys("time_sync"), "time_sync");
     if (root["camera_imu"]) r.CheckKeys(root["camera_imu"], CameraImuKeys(), "camera_imu");
   } catch (const rig_model::FileError& e) {
     throw std::invalid_argument(e.what());
@@ -94,20 +78,17 @@ void CheckConfigFile(const std::string& path) {
 
 // The calibration files named by ~gyro_calibration_file and ~camera_imu_file (read here, not by
 // roslaunch, so that every error names the file). Their values override parameters of the same name.
-void ReadCalibrationFiles(const ros::NodeHandle& pnh, DriverConfig* c) {
-  std::string path;
-  pnh.param<std::string>("gyro_calibration_file", path, "");
+void ReadCalibrationFiles(const DriverParams& p, DriverConfig* c) {
   try {
-    if (!path.empty()) {
-      const GyroCalibrationFile g = ReadGyroCalibrationFile(path);
+    if (!p.gyro_calibration_file.empty()) {
+      const GyroCalibrationFile g = ReadGyroCalibrationFile(p.gyro_calibration_file);
       if (g.gyro_bias_rad_s) {
         c->gyro_bias_rad_s = *g.gyro_bias_rad_s;
         c->gyro_bias_calibrated = true;
       }
       if (g.gyro_noise_sigma_rad_s) c->gyro_noise_sigma_rad_s = *g.gyro_noise_sigma_rad_s;
     }
-    pnh.param<std::string>("camera_imu_file", path, "");
-    if (!path.empty()) c->q_camera_imu = ReadCameraImuFile(path).q_camera_imu;
+    if (!p.camera_imu_file.empty()) c->q_camera_imu = ReadCameraImuFile(p.camera_imu_file).q_camera_imu;
   } catch (const rig_model::FileError& e) {
     throw std::invalid_argument(e.what());
   }
@@ -115,55 +96,75 @@ void ReadCalibrationFiles(const ros::NodeHandle& pnh, DriverConfig* c) {
 
 }  // namespace
 
+const rig_model::ParamTable<DriverParams>& DriverParamTable() {
+  using P = DriverParams;
+  static const rig_model::ParamTable<P> table =
+      rig_model::ParamTable<P>()
+          .Add("config_file", [](P& p) -> std::string& { return p.config_file; })
+          .Add("gyro_calibration_file", [](P& p) -> std::string& { return p.gyro_calibration_file; })
+          .Add("camera_imu_file", [](P& p) -> std::string& { return p.camera_imu_file; })
+          .Add("port", [](P& p) -> std::string& { return p.config.reader.port; })
+          .Add("baud", [](P& p) -> int& { return p.config.reader.baud; })
+          .Add("frame_id", [](P& p) -> std::string& { return p.config.frame_id; })
+          .Add("rate_hz", [](P& p) -> double& { return p.config.reader.stream.rate_hz; })
+          .Add("stamp_at_interval_midpoint", [](P& p) -> bool& { return p.config.stamp_at_interval_midpoint; })
+          .Add("retry_initial_s", [](P& p) -> double& { return p.config.reader.retry_initial_s; })
+          .Add("retry_max_s", [](P& p) -> double& { return p.config.reader.retry_max_s; })
+          .AddEnum("time_source", [](P& p) -> int& { return p.time_source; }, {"sequence", "pps"})
+          .Add("time_sync/slack_ppm", [](P& p) -> double& { return p.config.reader.stream.time_sync.slack_ppm; })
+          .Add("time_sync/window_s", [](P& p) -> double& { return p.config.reader.stream.time_sync.window_s; })
+          .Add("time_sync/max_skew_ppm", [](P& p) -> double& { return p.config.reader.stream.time_sync.max_skew_ppm; })
+          .Add("time_sync/jump_threshold_s",
+               [](P& p) -> double& { return p.config.reader.stream.time_sync.jump_threshold_s; })
+          .Add("subtract_gyro_bias", [](P& p) -> bool& { return p.config.subtract_gyro_bias; })
+          .Add("publish_in_camera_frame", [](P& p) -> bool& { return p.config.publish_in_camera_frame; })
+          .Add("camera_frame_id", [](P& p) -> std::string& { return p.config.camera_frame_id; })
+          .Add("calibration_duration_s", [](P& p) -> double& { return p.config.calibration_duration_s; })
+          .Add("calibrate_on_start", [](P& p) -> bool& { return p.config.calibrate_on_start; })
+          .Add("calibration_output_file", [](P& p) -> std::string& { return p.config.calibration_output_file; })
+          .Add("stale_after_s", [](P& p) -> double& { return p.config.stale_after_s; })
+          .Add("rate_tolerance", [](P& p) -> double& { return p.config.rate_tolerance; });
+  return table;
+}
+
 DriverConfig LoadConfig(const ros::NodeHandle& pnh) {
+  DriverParams p;
   std::string file;
-  pnh.param<std::string>("config_file", file, "");
-  if (!file.empty()) CheckConfigFile(file);
+  if (pnh.getParam("config_file", file) && !file.empty()) CheckConfigFile(file);  // its lines first
   try {
-    rig_model::CheckParamNames(pnh, kParamNames);
-    CheckNestedNames(pnh, "time_sync", kTimeSyncNames);
-    CheckNestedNames(pnh, "camera_imu", CameraImuKeys());
+    rig_model::LoadParams(pnh, DriverParamTable(), &p, ListNames());
   } catch (const std::invalid_argument& e) {
     if (file.empty()) throw;
     throw std::invalid_argument(std::string(e.what()) + " (parameters loaded from " + file + ")");
   }
-  DriverConfig c;
+  DriverConfig& c = p.config;
   SerialReaderConfig& r = c.reader;
-  pnh.param<std::string>("port", r.port, "/dev/ttyUSB0");
   if (r.port.empty()) Refuse(pnh, "port", "must not be empty");
-  pnh.param("baud", r.baud, 115200);
   if (BaudToSpeed(r.baud) == 0) Refuse(pnh, "baud", "unsupported rate " + std::to_string(r.baud));
-  pnh.param<std::string>("frame_id", c.frame_id, "imu");
   if (c.frame_id.empty()) Refuse(pnh, "frame_id", "must not be empty");
-  r.stream.rate_hz = PositiveParam(pnh, "rate_hz", 100.0);
-  pnh.param("stamp_at_interval_midpoint", c.stamp_at_interval_midpoint, true);
-  r.retry_initial_s = PositiveParam(pnh, "retry_initial_s", 0.1);
-  r.retry_max_s = PositiveParam(pnh, "retry_max_s", 2.0);
+  for (const auto& [name, v] : {std::pair<const char*, double>{"rate_hz", r.stream.rate_hz},
+                                {"retry_initial_s", r.retry_initial_s},
+                                {"retry_max_s", r.retry_max_s},
+                                {"time_sync/slack_ppm", r.stream.time_sync.slack_ppm},
+                                {"time_sync/window_s", r.stream.time_sync.window_s},
+                                {"time_sync/max_skew_ppm", r.stream.time_sync.max_skew_ppm},
+                                {"time_sync/jump_threshold_s", r.stream.time_sync.jump_threshold_s},
+                                {"calibration_duration_s", c.calibration_duration_s},
+                                {"stale_after_s", c.stale_after_s},
+                                {"rate_tolerance", c.rate_tolerance}})
+    RequirePositive(pnh, name, v);
   if (r.retry_max_s < r.retry_initial_s) Refuse(pnh, "retry_max_s", "must be >= retry_initial_s");
-  std::string time_source;
-  pnh.param<std::string>("time_source", time_source, "sequence");
-  if (time_source == "pps") {
-    r.stream.time_source = StreamConfig::TimeSource::kPps;
-  } else if (time_source != "sequence") {
-    Refuse(pnh, "time_source", "must be 'sequence' or 'pps', got '" + time_source + "'");
-  }
-  TimeSyncConfig& ts = r.stream.time_sync;
-  ts.slack_ppm = PositiveParam(pnh, "time_sync/slack_ppm", ts.slack_ppm);
-  ts.window_s = PositiveParam(pnh, "time_sync/window_s", ts.window_s);
-  ts.max_skew_ppm = PositiveParam(pnh, "time_sync/max_skew_ppm", ts.max_skew_ppm);
-  ts.jump_threshold_s = PositiveParam(pnh, "time_sync/jump_threshold_s", ts.jump_threshold_s);
+  r.stream.time_source = p.time_source == 1 ? StreamConfig::TimeSource::kPps : StreamConfig::TimeSource::kSequence;
 
   c.gyro_bias_calibrated = pnh.hasParam("gyro_bias_rad_s");
   c.gyro_bias_rad_s = Vector3Param(pnh, "gyro_bias_rad_s", c.gyro_bias_rad_s, false);
-  pnh.param("subtract_gyro_bias", c.subtract_gyro_bias, true);
   c.gyro_noise_sigma_rad_s = Vector3Param(pnh, "gyro_noise_sigma_rad_s", c.gyro_noise_sigma_rad_s, true);
   c.accel_noise_sigma_m_s2 = Vector3Param(pnh, "accel_noise_sigma_m_s2", c.accel_noise_sigma_m_s2, true);
 
-  pnh.param("publish_in_camera_frame", c.publish_in_camera_frame, false);
-  pnh.param<std::string>("camera_frame_id", c.camera_frame_id, "camera_optical");
   std::vector<double> q;
   const bool camera_imu_file = pnh.hasParam("camera_imu_file");  // read by ReadCalibrationFiles
-  if (!camera_imu_file && pnh.getParam("camera_imu/rotation_xyzw", q)) {
+  if (!camera_imu_file && pnh.hasParam("camera_imu/rotation_xyzw")) {
+    if (!pnh.getParam("camera_imu/rotation_xyzw", q)) q.clear();
     const Eigen::Vector4d v = q.size() == 4 ? Eigen::Vector4d(q[0], q[1], q[2], q[3]) : Eigen::Vector4d::Zero();
     if (!v.allFinite() || v.norm() < 0.5 || v.norm() > 1.5) {
       Refuse(pnh, "camera_imu/rotation_xyzw", "must be a unit quaternion [x, y, z, w]");
@@ -173,13 +174,7 @@ DriverConfig LoadConfig(const ros::NodeHandle& pnh) {
     Refuse(pnh, "camera_imu_file",
            "needed by publish_in_camera_frame: the 3.2.2 calibration YAML (or set ~camera_imu/rotation_xyzw)");
   }
-  ReadCalibrationFiles(pnh, &c);
-
-  c.calibration_duration_s = PositiveParam(pnh, "calibration_duration_s", 5.0);
-  pnh.param("calibrate_on_start", c.calibrate_on_start, false);
-  pnh.param<std::string>("calibration_output_file", c.calibration_output_file, "");
-  c.stale_after_s = PositiveParam(pnh, "stale_after_s", 0.5);
-  c.rate_tolerance = PositiveParam(pnh, "rate_tolerance", 0.1);
+  ReadCalibrationFiles(p, &c);
   return c;
 }
 

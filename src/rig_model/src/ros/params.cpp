@@ -92,8 +92,14 @@ void CheckParamNames(const ros::NodeHandle& nh, const std::vector<std::string>& 
   for (const std::string& full : all) {
     if (full.compare(0, prefix.size(), prefix) != 0) continue;
     const std::string rest = full.substr(prefix.size());
-    const std::string name = rest.substr(0, rest.find('/'));
-    if (std::find(known.begin(), known.end(), name) != known.end()) continue;
+    const std::string first = rest.substr(0, rest.find('/'));
+    const auto is_known = [&](const std::string& n) { return std::find(known.begin(), known.end(), n) != known.end(); };
+    if (is_known(first) || is_known(rest)) continue;
+    // A known nested name ("time_sync/window_s") makes its namespace's other names checked in full.
+    const bool nested = std::any_of(known.begin(), known.end(), [&](const std::string& k) {
+      return k.compare(0, first.size() + 1, first + "/") == 0;
+    });
+    const std::string name = nested ? rest : first;
     const std::string nearest = NearestKey(name, known);
     throw std::invalid_argument("parameter ~" + name + " is unknown" +
                                 (nearest.empty() ? "" : " (did you mean ~" + nearest + "?)"));

@@ -1,25 +1,40 @@
 #include "rig_sim/ros/sim_publisher.h"
 
+#include "rig_model/ros/param_table_ros.h"
 #include "rig_sim/crista_link.h"
 
 #include <rosgraph_msgs/Clock.h>
 
 namespace rig_sim {
 
+const rig_model::ParamTable<SimPublisherConfig>& SimPublisherParams() {
+  using C = SimPublisherConfig;
+  static const rig_model::ParamTable<C> table =
+      rig_model::ParamTable<C>()
+          .Add("scenario", [](C& c) -> std::string& { return c.scenario; })
+          .Add("seed", [](C& c) -> int& { return c.seed; })
+          .Add("image_scale", [](C& c) -> double& { return c.image_scale; })
+          .Add("duration_s", [](C& c) -> double& { return c.duration_s; })
+          .Add("realtime_factor", [](C& c) -> double& { return c.realtime_factor; })
+          .Add("camera_delay_ms", [](C& c) -> double& { return c.camera_delay_ms; })
+          .Add("start_time_s", [](C& c) -> double& { return c.start_time_s; })
+          .Add("loop", [](C& c) -> bool& { return c.loop; })
+          .Add("publish_clock", [](C& c) -> bool& { return c.publish_clock; })
+          .Add("serial_pty", [](C& c) -> bool& { return c.serial_pty; })
+          .Add("serial_link", [](C& c) -> std::string& { return c.serial_link; })
+          .Add("layouts_dir", [](C& c) -> std::string& { return c.layouts_dir; });
+  return table;
+}
+
 bool LoadSimPublisherConfig(const ros::NodeHandle& pnh, SimPublisherConfig* c, std::string* error) {
   SimPublisherConfig out;
-  pnh.param("scenario", out.scenario, out.scenario);
-  pnh.param("seed", out.seed, out.seed);
-  pnh.param("image_scale", out.image_scale, out.image_scale);
-  pnh.param("duration_s", out.duration_s, out.duration_s);
-  pnh.param("realtime_factor", out.realtime_factor, out.realtime_factor);
-  pnh.param("camera_delay_ms", out.camera_delay_ms, out.camera_delay_ms);
-  pnh.param("start_time_s", out.start_time_s, out.start_time_s);
-  pnh.param("loop", out.loop, out.loop);
-  pnh.param("publish_clock", out.publish_clock, out.publish_clock);
-  pnh.param("serial_pty", out.serial_pty, out.serial_pty);
-  pnh.param("serial_link", out.serial_link, out.serial_link);
-  pnh.param("layouts_dir", out.layouts_dir, std::string(RIG_SIM_LAYOUTS_DIR));
+  out.layouts_dir = RIG_SIM_LAYOUTS_DIR;
+  try {
+    rig_model::LoadParams(pnh, SimPublisherParams(), &out);
+  } catch (const std::invalid_argument& e) {
+    if (error) *error = e.what();
+    return false;
+  }
   std::string err;
   if (out.seed < 0)
     err = "~seed must be >= 0";

@@ -10,7 +10,8 @@ namespace aravis_camera {
 // What a frame's header.stamp is. The default maps the camera's own timestamp
 // (latched by the camera, so free of network jitter) to the host clock; the
 // host-clock choices are for cameras without usable timestamps.
-enum class StampSource {
+// ~stamp_source's values, in the order of the names the parameter takes (device, host, completion).
+enum StampSource : int {
   kDevice,      // the camera's timestamp mapped to the host clock (timestamp_mapper.h)
   kHost,        // host clock at the frame's first packet (Aravis's system timestamp)
   kCompletion,  // host clock when the last packet arrived and the frame was complete
@@ -35,12 +36,12 @@ struct CameraConfig {
   double gain_db = 0.0;
   int packet_size_bytes = 0;  // 0: negotiate the largest the path allows
   int inter_packet_delay_ns = 0;
-  int n_buffers = 8;                // stream buffers in the zero-copy pool
-  bool publish_incomplete = false;  // publish frames with missing packets (counted either way)
-  double reconnect_period_s = 0.5;  // between attempts to open a camera that is absent or lost
-  double frame_timeout_s = 2.0;     // no frame for this long while streaming: treat the camera as lost
-  StampSource stamp_source = StampSource::kDevice;
-  double stamp_offset_s = 0.0;  // subtracted from every stamp: the rig's calibrated exposure-to-stamp delay
+  int n_buffers = 8;                        // stream buffers in the zero-copy pool
+  bool publish_incomplete = false;          // publish frames with missing packets (counted either way)
+  double reconnect_period_s = 0.5;          // between attempts to open a camera that is absent or lost
+  double frame_timeout_s = 2.0;             // no frame for this long while streaming: treat the camera as lost
+  int stamp_source = StampSource::kDevice;  // a StampSource
+  double stamp_offset_s = 0.0;              // subtracted from every stamp: the rig's calibrated exposure-to-stamp delay
   std::string frame_id = "camera_optical";
 };
 

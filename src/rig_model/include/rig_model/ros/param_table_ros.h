@@ -27,9 +27,13 @@ void ReadReconfigureMessage(const dynamic_reconfigure::Config& msg,
 // Reads the table's parameters from `pnh` into `config` (absent ones keep the struct's defaults).
 // Throws std::invalid_argument naming the parameter: "parameter ~max_tilt_deg must be a number",
 // also for a parameter under ~ that the table does not know (a typo in a launch or YAML file).
+// Table names may be nested ("time_sync/window_s"). `also_known`: other names the component
+// legitimately has under ~ and reads itself (lists, files), checked for spelling all the same.
 template <class Config>
-void LoadParams(const ros::NodeHandle& pnh, const ParamTable<Config>& table, Config* config) {
+void LoadParams(const ros::NodeHandle& pnh, const ParamTable<Config>& table, Config* config,
+                const std::vector<std::string>& also_known = {}) {
   std::vector<std::string> known = table.Names();
+  known.insert(known.end(), also_known.begin(), also_known.end());
   known.push_back("diagnostic_period");  // diagnostic_updater::Updater reads it from the same namespace
   CheckParamNames(pnh, known);
   for (const std::string& name : table.Names()) {

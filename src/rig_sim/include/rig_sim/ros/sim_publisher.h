@@ -10,6 +10,7 @@
 #include <ros/ros.h>
 
 #include "imu_driver/core/pseudo_terminal.h"
+#include "rig_model/param_table.h"
 #include "rig_model/ros/diagnostics.h"
 #include "rig_sim/ros/frame_pipeline.h"
 #include "rig_sim/ros/messages.h"
@@ -31,7 +32,11 @@ struct SimPublisherConfig {
   std::string layouts_dir;                          // default: rig_model's config/layouts
 };
 
-// Reads ~parameters; returns false with a message naming the bad parameter.
+// SimPublisherConfig's parameters under ~, by the field names.
+const rig_model::ParamTable<SimPublisherConfig>& SimPublisherParams();
+
+// Reads ~parameters through SimPublisherParams() (rig_model::LoadParams: type-checked, unknown
+// names refused); returns false with a message naming the bad parameter.
 bool LoadSimPublisherConfig(const ros::NodeHandle& pnh, SimPublisherConfig* config, std::string* error);
 
 class SimPublisher {
