@@ -7,6 +7,8 @@
 2. Benchmarks never include test sources: no file under a package's bench/ includes anything from
    test/ (they use the package's testing library), and no CMakeLists.txt puts a test/ folder on a
    benchmark's include path.
+3. The rig is described once (issue 17): cone_tracker needs rig_sim only for its tests, only rig_model's
+   parser reads the cone layout's keys, and every nodelet's onInit() is at most 40 lines.
 
 Usage: test_core_layers.py [--src DIR] [--xml RESULT.xml]   (DIR defaults to the repository's src/)
 """
@@ -40,6 +42,30 @@ ROS_INCLUDE = re.compile(
     r"[a-z_]+/[A-Z]\w*\.h[\">]|cone_tracker/node/|\w+/ros/)")  # [A-Z]: generated messages and Config.h
 TEST_INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]([^">]*\btest/[^">]*)[">]')
 SOURCE_EXT = (".h", ".hpp", ".cpp", ".cc", ".c")
+RIG_SIM_INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]rig_sim/')
+# The layout's top-level key, quoted as a parser reads it: only rig_model's parser may.
+LAYOUT_KEY = re.compile(r'["\']equilateral["\']')
+LAYOUT_PARSER = "rig_model/src/layout.cpp"
+MAX_ON_INIT_LINES = 40
+ON_INIT = re.compile(r"\bonInit\(\)\s*(override\s*)?\{")
+
+
+def on_init_lengths(path):
+    """(first line, lines from the signature to the closing brace) of every onInit() definition in path."""
+    with open(path, encoding="utf-8", errors="replace") as f:
+        lines = f.read().split("\n")
+    found = []
+    for i, line in enumerate(lines):
+        if not ON_INIT.search(line):
+            continue
+        depth, j = 0, i
+        while j < len(lines):
+            depth += lines[j].count("{") - lines[j].count("}")
+            if depth == 0:
+                break
+            j += 1
+        found.append((i + 1, j - i + 1))
+    return found
 
 
 def core_files(package):
@@ -118,6 +144,60 @@ class BenchesUseTestingLibraries(unittest.TestCase):
         self.assertEqual(bad, [], "benchmark targets with test/ on their include path:\n" + "\n".join(bad))
 
 
+
+class RigDescription(unittest.TestCase):
+    """Issue 17's checks: the tracker does not need the simulator, the layout is parsed in one place,
+    nodelets are thin."""
+
+    def test_cone_tracker_needs_rig_sim_only_for_tests(self):
+        with open(os.path.join(SRC, "cone_tracker", "package.xml"), encoding="utf-8") as f:
+            deps = re.findall(r"<(\w*depend)>\s*rig_sim\s*</", f.read())
+        self.assertEqual([d for d in deps if d != "test_depend"], [],
+                         "cone_tracker/package.xml: rig_sim may only be a test_depend")
+        bad = []
+        root = os.path.join(SRC, "cone_tracker")
+        for dirpath, _, names in os.walk(root):
+            if os.path.relpath(dirpath, root).split(os.sep)[0] == "test":
+                continue
+            for name in sorted(names):
+                path = os.path.join(dirpath, name)
+                if name.endswith(SOURCE_EXT):
+                    bad += [f"{os.path.relpath(path, SRC)}:{n}: {line}" for n, line in grep(path, RIG_SIM_INCLUDE)]
+        self.assertEqual(bad, [], "rig_sim headers outside cone_tracker/test:\n" + "\n".join(bad))
+
+    def test_the_layout_is_parsed_in_one_place(self):
+        parsers = []
+        for dirpath, _, names in os.walk(SRC):
+            if "/test" in dirpath.replace(os.sep, "/"):
+                continue
+            for name in sorted(names):
+                path = os.path.join(dirpath, name)
+                if name.endswith(SOURCE_EXT + (".py",)) and grep(path, LAYOUT_KEY):
+                    parsers.append(os.path.relpath(path, SRC))
+        self.assertEqual(parsers, [LAYOUT_PARSER], "files that read the layout's keys (use rig_model/layout.h)")
+
+    def test_every_nodelet_oninit_is_at_most_40_lines(self):
+        long = []
+        for dirpath, _, names in os.walk(SRC):
+            for name in sorted(names):
+                if not name.endswith(".cpp"):
+                    continue
+                path = os.path.join(dirpath, name)
+                for line, length in on_init_lengths(path):
+                    if length > MAX_ON_INIT_LINES:
+                        long.append(f"{os.path.relpath(path, SRC)}:{line}: onInit() is {length} lines")
+        self.assertEqual(long, [], f"onInit() longer than {MAX_ON_INIT_LINES} lines:\n" + "\n".join(long))
+
+    def test_the_oninit_count_sees_a_long_one(self):
+        body = "void X::onInit() {\n" + "  a();\n" * 45 + "}\n"
+        path = os.path.join(os.environ.get("TMPDIR", "/tmp"), f"on_init_{os.getpid()}.cpp")
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(body)
+        try:
+            self.assertEqual(on_init_lengths(path), [(1, 47)])
+        finally:
+            os.remove(path)
+
 def write_junit(result, tests, path):
     """A JUnit file for catkin_test_results (unittest has no writer of its own)."""
     failed = {id(t): msg for t, msg in result.failures + result.errors}
@@ -142,7 +222,7 @@ def main():
         print(f"test_core_layers.py: --src {args.src}: not a folder", file=sys.stderr)
         return 2
     loader = unittest.TestLoader()
-    suite = unittest.TestSuite([loader.loadTestsFromTestCase(c) for c in (CoreLayers, BenchesUseTestingLibraries)])
+    suite = unittest.TestSuite([loader.loadTestsFromTestCase(c) for c in (CoreLayers, BenchesUseTestingLibraries, RigDescription)])
     tests = [t for case_suite in suite for t in case_suite]
     result = unittest.TextTestRunner(verbosity=2).run(suite)
     if args.xml:
