@@ -7,9 +7,9 @@
 #include <limits>
 
 #include "pose_ekf/node/pose_ekf_adapter.h"
+#include "pose_ekf/testing/synthetic_rig.h"
 #include "pose_math/rotation.h"
 #include "ros_messages.h"
-#include "pose_ekf/testing/synthetic_rig.h"
 
 namespace pose_ekf_test {
 namespace {

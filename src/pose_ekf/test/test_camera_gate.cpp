@@ -10,9 +10,9 @@
 
 #include "pose_ekf/core/ekf_core.h"
 #include "pose_ekf/core/measurement_buffer.h"
+#include "pose_ekf/testing/synthetic_rig.h"
 #include "pose_math/covariance.h"
 #include "pose_math/rotation.h"
-#include "pose_ekf/testing/synthetic_rig.h"
 
 namespace pose_ekf_test {
 namespace {

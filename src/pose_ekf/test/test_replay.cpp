@@ -10,9 +10,9 @@
 #include <map>
 #include <sstream>
 
+#include "pose_ekf/node/node_config.h"
 #include "pose_ekf/node/replay.h"
 #include "pose_ekf/testing/synthetic_rig.h"
-#include "pose_ekf/node/node_config.h"
 #include "pose_math/rotation.h"
 #include "ros_messages.h"
 
