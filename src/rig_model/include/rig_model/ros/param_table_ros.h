@@ -27,10 +27,13 @@ void ReadReconfigureMessage(const dynamic_reconfigure::Config& msg,
 // Reads the table's parameters from `pnh` into `config` (absent ones keep the struct's defaults).
 // Throws std::invalid_argument naming the parameter: "parameter ~max_tilt_deg must be a number",
 // also for a parameter under ~ that the table does not know (a typo in a launch or YAML file).
+// `also_known`: other names (or sub-namespaces) under ~ that someone else reads, e.g. image_transport's.
 template <class Config>
-void LoadParams(const ros::NodeHandle& pnh, const ParamTable<Config>& table, Config* config) {
+void LoadParams(const ros::NodeHandle& pnh, const ParamTable<Config>& table, Config* config,
+                const std::vector<std::string>& also_known = {}) {
   std::vector<std::string> known = table.Names();
   known.push_back("diagnostic_period");  // diagnostic_updater::Updater reads it from the same namespace
+  known.insert(known.end(), also_known.begin(), also_known.end());
   CheckParamNames(pnh, known);
   for (const std::string& name : table.Names()) {
     ParamValue value;
