@@ -8,10 +8,10 @@
 
 #include "cone_tracker/node/layout.h"
 #include "cone_tracker/node/tracker_adapter.h"
+#include "cone_tracker/testing/vision_frames.h"
 #include "nodelet_test_util.h"
 #include "pose_math/covariance.h"
 #include "pose_math/rotation.h"
-#include "vision_frames.h"
 
 namespace cone_tracker {
 namespace {

@@ -9,10 +9,10 @@
 
 #include <Eigen/Geometry>
 
+#include "cone_tracker/testing/vision_frames.h"
 #include "cone_tracker/vision/cone_pose.h"
 #include "cone_tracker/vision/segmenter.h"
 #include "pose_math/rotation.h"
-#include "vision_frames.h"
 
 namespace cone_tracker {
 namespace {

@@ -13,8 +13,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "cone_tracker/testing/vision_frames.h"
 #include "cone_tracker/vision/segmenter.h"
-#include "vision_frames.h"
 
 namespace {
 
