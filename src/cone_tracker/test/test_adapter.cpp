@@ -8,10 +8,10 @@
 
 #include "cone_tracker/node/layout.h"
 #include "cone_tracker/node/tracker_adapter.h"
+#include "cone_tracker/testing/vision_frames.h"
 #include "nodelet_test_util.h"
 #include "pose_math/covariance.h"
 #include "pose_math/rotation.h"
-#include "vision_frames.h"
 
 namespace cone_tracker {
 namespace {
@@ -233,7 +233,7 @@ TEST_F(Adapter, ReacquiresWhenTheTfPredictionKeepsFailing) {
 
 TEST_F(Adapter, ReconfigureRebuildsTheColourTableAndRefusesBadValues) {
   SegmenterConfig seg = adapter_.config().segmenter;
-  seg.hsi.hue_min_rad = 3.5, seg.hsi.hue_max_rad = 4.4;  // blue
+  seg.hsi.hue_min_deg = 200.0, seg.hsi.hue_max_deg = 252.0;  // blue
   adapter_.Reconfigure(seg, adapter_.config().pose, adapter_.config().debug);
   FrameResult r = adapter_.Process(Frame("rgb8", 1.0), std::nullopt);
   EXPECT_EQ(r.status, FrameStatus::kNoCones) << r.message;

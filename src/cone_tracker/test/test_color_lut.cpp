@@ -29,7 +29,7 @@ TEST(ColorLut, TableMatchesDirectClassificationAndRebuilds) {
   std::mt19937 rng(3);
   std::uniform_int_distribution<int> byte(0, 255);
   HsiBounds wrap;
-  wrap.hue_min_rad = 5.5, wrap.hue_max_rad = 0.4;  // through red
+  wrap.hue_min_deg = 315.0, wrap.hue_max_deg = 23.0;  // through red
   for (const HsiBounds& b : {HsiBounds(), wrap}) {
     lut.Build(b);
     int positives = 0;

@@ -5,9 +5,9 @@
 #include <cstdio>
 
 #include "cone_tracker/pose/algorithms.h"
+#include "cone_tracker/testing/vision_frames.h"
 #include "cone_tracker/vision/cone_pose.h"
 #include "pose_math/rotation.h"
-#include "vision_frames.h"
 
 namespace cone_tracker {
 namespace {

@@ -14,8 +14,8 @@
 #include <Eigen/Geometry>
 
 #include "cone_tracker/ConeDetections.h"
+#include "cone_tracker/testing/vision_frames.h"
 #include "nodelet_test_util.h"
-#include "vision_frames.h"
 
 namespace cone_tracker {
 namespace {

@@ -90,10 +90,24 @@ std::string RunDetectCones(const std::string& config, int* status) {
 TEST(DetectConesConfig, ShippedLoadsAndMisspeltKeyIsRefused) {
   int status = -1;
   RunDetectCones("photos", &status);
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << status;  // the config loads; the image does not
+  // The config loads: the exit status is 1, for the unreadable image, not 2 (a bad config).
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << status;
   const std::string path = ::testing::TempDir() + "cone_tracker_misspelt_photos.yaml";
   std::ofstream(path) << "sat_min: 0.5\nsat_maxx: 1.0\n";
-  const std::string err = RunDetectCones(path, &status);
+  std::string err = RunDetectCones(path, &status);
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << status;
   EXPECT_NE(err.find(path + ":2: unknown key 'sat_maxx' (did you mean 'sat_max'?)"), std::string::npos) << err;
+  // The keys are the nodelet's parameters, hue in degrees: the radians of old are refused.
+  std::ofstream(path) << "hue_min_rad: 5.93\n";
+  err = RunDetectCones(path, &status);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << status;
+  EXPECT_NE(err.find(path + ":1: unknown key 'hue_min_rad' (did you mean 'hue_min_deg'?)"), std::string::npos) << err;
+  std::ofstream(path) << "hue_min_deg: 340\npeak_refinement: 7\n";
+  err = RunDetectCones(path, &status);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << status;
+  EXPECT_NE(err.find(path + ":2: peak_refinement: must be one of outline, templates, none"), std::string::npos) << err;
+  std::ofstream(path) << "max_area_px: .inf\n";
+  err = RunDetectCones(path, &status);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << status;
+  EXPECT_NE(err.find(path + ":1: max_area_px: must be finite"), std::string::npos) << err;
 }

@@ -9,10 +9,10 @@
 
 #include <Eigen/Geometry>
 
+#include "cone_tracker/testing/vision_frames.h"
 #include "cone_tracker/vision/cone_pose.h"
 #include "cone_tracker/vision/segmenter.h"
 #include "pose_math/rotation.h"
-#include "vision_frames.h"
 
 namespace cone_tracker {
 namespace {
@@ -101,8 +101,8 @@ void Score(const SimFrame& f, const rig_sim::Scene& scene, const SegmentationRes
 TEST(Refinement, OutlineBeatsTemplatesAndMeetsOnePixelOnRoadCones) {
   const rig_sim::Scene scene = rig_sim::DefaultScene();
   SegmenterConfig outline_cfg, template_cfg, none_cfg;
-  template_cfg.refinement = PeakRefinement::kTemplates;
-  none_cfg.refinement = PeakRefinement::kNone;
+  template_cfg.peak_refinement = int(PeakRefinement::kTemplates);
+  none_cfg.peak_refinement = int(PeakRefinement::kNone);
   Segmenter outline{outline_cfg}, templates{template_cfg}, none{none_cfg};
   std::mt19937 rng(7);
   Errors eo, et, en;

@@ -8,8 +8,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "cone_tracker/testing/vision_frames.h"
 #include "cone_tracker/vision/segmenter.h"
-#include "vision_frames.h"
 
 namespace cone_tracker {
 namespace {

@@ -13,8 +13,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "cone_tracker/testing/vision_frames.h"
 #include "cone_tracker/vision/segmenter.h"
-#include "vision_frames.h"
 
 namespace {
 
@@ -79,8 +79,8 @@ int main() {
   Segmenter seg{SegmenterConfig()};
   const HsiBounds& k = seg.config().hsi;
   // OpenCV's 8-bit HSV: H in [0, 180) for [0, 360) deg, S and V in [0, 255].
-  const cv::Scalar lo(k.hue_min_rad * 90.0 / M_PI, k.sat_min * 255.0, k.val_min * 255.0);
-  const cv::Scalar hi(k.hue_max_rad * 90.0 / M_PI, k.sat_max * 255.0, k.val_max * 255.0);
+  const cv::Scalar lo(k.hue_min_deg / 2.0, k.sat_min * 255.0, k.val_min * 255.0);
+  const cv::Scalar hi(k.hue_max_deg / 2.0, k.sat_max * 255.0, k.val_max * 255.0);
   const int kFrames = 1500;
   std::vector<double> ours, baseline, classify, blobs, measure, ours_cpu, baseline_cpu;
   size_t cones = 0, cv_blobs = 0;
@@ -125,7 +125,7 @@ int main() {
   std::printf("BENCH cone_tracker.stage_measure_median %.3f ms\n", Median(measure));
   // The thesis's template refinement (3.1.5.4) on the same frames, for comparison.
   SegmenterConfig tc;
-  tc.refinement = PeakRefinement::kTemplates;
+  tc.peak_refinement = int(PeakRefinement::kTemplates);
   const auto tb0 = Clock::now();
   Segmenter tseg{tc};
   std::printf("template set built at start-up in %.1f ms\n", Ms(tb0, Clock::now()));

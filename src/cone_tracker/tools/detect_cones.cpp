@@ -14,68 +14,37 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
-#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "cone_tracker/node/params.h"
 #include "cone_tracker/vision/segmenter.h"
 #include "rig_model/strict_yaml.h"
 
 namespace {
 
-// Reads SegmenterConfig's fields from a YAML file; the known keys are the ones read here, so a
-// misspelt or unknown key is refused with the file, its line and the nearest field.
-class ConfigFile {
- public:
-  explicit ConfigFile(const std::string& path) : r_(path), root_(rig_model::LoadYamlFile(path)) {
-    if (root_.IsNull()) root_ = YAML::Node(YAML::NodeType::Map);  // comments only: the defaults
-  }
-  template <typename T>
-  void Read(const char* key, T* value) {
-    known_.push_back(key);
-    const YAML::Node n = root_.IsMap() ? root_[key] : YAML::Node();
-    if (!n) return;
-    try {
-      *value = n.as<T>();
-    } catch (const YAML::Exception&) {
-      r_.Fail(n, key, std::is_same<T, bool>::value ? "must be true or false" : "must be a number");
-    }
-    if constexpr (std::is_floating_point<T>::value) {
-      if (!std::isfinite(*value)) r_.Fail(n, key, "must be finite");
-    }
-  }
-  std::string String(const char* key) {
-    known_.push_back(key);
-    return root_.IsMap() ? r_.String(root_, "", key, "") : "";
-  }
-  void CheckKeys() const { r_.CheckKeys(root_, known_, ""); }
-
- private:
-  rig_model::StrictReader r_;
-  YAML::Node root_;
-  std::vector<std::string> known_;
-};
-
+// Reads a YAML mapping of the nodelet's parameters (same names, same units, the same table) and
+// keeps the segmentation's; the others (frames, pose gates) are accepted, so that one tracker config
+// serves both. Unknown or misspelt keys and wrong types are refused with the file, line and key.
 cone_tracker::SegmenterConfig LoadConfig(const std::string& path) {
-  cone_tracker::SegmenterConfig c;
-  ConfigFile f(path);
-  f.Read("hue_min_rad", &c.hsi.hue_min_rad), f.Read("hue_max_rad", &c.hsi.hue_max_rad);
-  f.Read("sat_min", &c.hsi.sat_min), f.Read("sat_max", &c.hsi.sat_max);
-  f.Read("val_min", &c.hsi.val_min), f.Read("val_max", &c.hsi.val_max);
-  f.Read("min_area_px", &c.min_area_px), f.Read("max_area_px", &c.max_area_px);
-  f.Read("border_px", &c.border_px);
-  f.Read("min_solidity", &c.min_solidity), f.Read("max_solidity", &c.max_solidity);
-  f.Read("min_axis_ratio", &c.min_axis_ratio), f.Read("max_axis_ratio", &c.max_axis_ratio);
-  f.Read("max_tilt_deg", &c.max_tilt_deg);
-  f.Read("merge_lateral_frac", &c.merge_lateral_frac), f.Read("merge_gap_frac", &c.merge_gap_frac);
-  f.Read("reject_bad_outline", &c.reject_bad_outline);
-  const std::string refinement = f.String("refinement");
-  f.CheckKeys();
-  if (!refinement.empty()) c.refinement = cone_tracker::ParsePeakRefinement(refinement);
-  return c;
+  const rig_model::StrictReader reader(path);
+  const YAML::Node root = rig_model::LoadYamlFile(path);
+  cone_tracker::NodeConfig c;
+  if (root.IsNull()) return c.segmenter;  // comments only: the defaults
+  const auto& table = cone_tracker::NodeParams();
+  table.FromYaml(root, reader, "", &c);
+  for (const auto& kv : root) {
+    const rig_model::ParamValue v = table.Get(c, kv.first.Scalar());
+    const double* d = std::get_if<double>(&v);
+    if (d && !std::isfinite(*d) && kv.first.Scalar() != "heading_prior_deg") {
+      reader.Fail(kv.second, kv.first.Scalar(), "must be finite");
+    }
+  }
+  return c.segmenter;
 }
 
 nlohmann::json Uv(const Eigen::Vector2d& p) { return {p.x(), p.y()}; }

@@ -18,10 +18,12 @@
 
 #include "cone_tracker/ConeTrackerConfig.h"
 #include "cone_tracker/node/layout.h"
+#include "cone_tracker/node/params.h"
 #include "cone_tracker/node/tracker_adapter.h"
 #include "cone_tracker/node/visuals.h"
 #include "rig_model/ros/conversions.h"
 #include "rig_model/ros/diagnostics.h"
+#include "rig_model/ros/param_table_ros.h"
 
 namespace cone_tracker {
 
@@ -38,6 +40,10 @@ struct RunningStat {
 class ConeTrackerNodelet : public nodelet::Nodelet {
  private:
   void onInit() override;
+  void WarnIfSymmetric(const NodeConfig& config, const std::vector<ConeModel>& layout);
+  void SetUpRateChecks(const NodeConfig& config);
+  void SetUpPublishers(ros::NodeHandle& nh, const NodeConfig& config, const std::vector<ConeModel>& layout);
+  void SetUpReconfigure(ros::NodeHandle& pnh, const NodeConfig& config);
   void OnImage(const sensor_msgs::ImageConstPtr& msg);
   void OnCameraInfo(const sensor_msgs::CameraInfoConstPtr& msg);
   void OnReconfigure(ConeTrackerConfig& cfg, uint32_t level);
@@ -84,22 +90,38 @@ void ConeTrackerNodelet::onInit() {
     NODELET_FATAL("%s", fatal_.c_str());
     return;
   }
-  if (LayoutHasRotationalSymmetry(layout)) {
-    NODELET_WARN(
-        "cone_tracker: the layout in %s is rotationally symmetric (identical cones): without a prediction the "
-        "rotated poses fit equally well; heading_prior_deg (%s) picks one. Asymmetric layouts (different heights, "
-        "uneven spacing, a stacked cone) avoid this.",
-        config.layout_file.c_str(),
-        std::isnan(config.heading_prior_deg) ? "not set" : std::to_string(config.heading_prior_deg).c_str());
-  }
+  WarnIfSymmetric(config, layout);
+  SetUpRateChecks(config);
+  SetUpPublishers(nh, config, layout);
+  SetUpReconfigure(pnh, config);
+  info_sub_ = nh.subscribe("camera/camera_info", 1, &ConeTrackerNodelet::OnCameraInfo, this);
+  image_sub_ = it_->subscribe("camera/image_raw", 2, &ConeTrackerNodelet::OnImage, this);
+  NODELET_INFO("cone_tracker: %zu cones from %s; %s + %s -> cone_tracker/pose in '%s'", layout.size(),
+               config.layout_file.c_str(), image_sub_.getTopic().c_str(), info_sub_.getTopic().c_str(),
+               config.fixed_frame.c_str());
+}
 
+void ConeTrackerNodelet::WarnIfSymmetric(const NodeConfig& config, const std::vector<ConeModel>& layout) {
+  if (!LayoutHasRotationalSymmetry(layout)) return;
+  NODELET_WARN(
+      "cone_tracker: the layout in %s is rotationally symmetric (identical cones): without a prediction the "
+      "rotated poses fit equally well; heading_prior_deg (%s) picks one. Asymmetric layouts (different heights, "
+      "uneven spacing, a stacked cone) avoid this.",
+      config.layout_file.c_str(),
+      std::isnan(config.heading_prior_deg) ? "not set" : std::to_string(config.heading_prior_deg).c_str());
+}
+
+void ConeTrackerNodelet::SetUpRateChecks(const NodeConfig& config) {
   rig_model::RateCheckConfig rate = rig_model::RateCheckConfig::Around(config.expected_rate_hz, config.rate_tolerance);
   image_freq_ = std::make_unique<rig_model::StampRateTask>("image input", rate);  // no images: ERROR
   rate.stale_level = diagnostic_msgs::DiagnosticStatus::WARN;                     // no cones in view is no fault
   pose_freq_ = std::make_unique<rig_model::StampRateTask>("pose rate", rate);
   diagnostics_->Add(*image_freq_);
   diagnostics_->Add(*pose_freq_);
+}
 
+void ConeTrackerNodelet::SetUpPublishers(ros::NodeHandle& nh, const NodeConfig& config,
+                                         const std::vector<ConeModel>& layout) {
   if (config.use_tf_prediction) {
     tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
     tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
@@ -111,53 +133,20 @@ void ConeTrackerNodelet::onInit() {
       boost::make_shared<visualization_msgs::MarkerArray>(MakeLayoutMarkers(layout, config.fixed_frame)));
   it_ = std::make_unique<image_transport::ImageTransport>(nh);
   debug_pub_ = it_->advertise("cone_tracker/debug_image", 1);
+}
 
+// The server starts from the loaded parameters, not the .cfg defaults; both sides go through the
+// parameter table, by name.
+void ConeTrackerNodelet::SetUpReconfigure(ros::NodeHandle& pnh, const NodeConfig& config) {
   reconfigure_ = std::make_unique<dynamic_reconfigure::Server<ConeTrackerConfig>>(reconfigure_mutex_, pnh);
-  ConeTrackerConfig current;  // start from the loaded parameters, not the .cfg defaults
-  const SegmenterConfig& s = config.segmenter;
-  current.hue_min_deg = s.hsi.hue_min_rad * 180.0 / M_PI, current.hue_max_deg = s.hsi.hue_max_rad * 180.0 / M_PI;
-  current.sat_min = s.hsi.sat_min, current.sat_max = s.hsi.sat_max;
-  current.val_min = s.hsi.val_min, current.val_max = s.hsi.val_max;
-  current.min_area_px = s.min_area_px, current.max_area_px = s.max_area_px, current.border_px = s.border_px;
-  current.min_solidity = s.min_solidity, current.max_solidity = s.max_solidity;
-  current.min_axis_ratio = s.min_axis_ratio, current.max_axis_ratio = s.max_axis_ratio;
-  current.max_tilt_deg = s.max_tilt_deg;
-  current.merge_lateral_frac = s.merge_lateral_frac, current.merge_gap_frac = s.merge_gap_frac;
-  current.peak_refinement = int(s.refinement);  // PeakRefinement's values are the .cfg enum's
-  current.reject_bad_outline = s.reject_bad_outline;
-  const ConePoseConfig& p = config.pose;
-  current.sigma_px = p.sigma_px, current.max_assignment_px = p.max_assignment_px;
-  current.chi2_probability = p.chi2_probability;
-  current.max_translation_change_m = p.max_translation_change_m;
-  current.max_rotation_change_deg = p.max_rotation_change_deg;
-  current.debug_tint_mask = config.debug.tint_mask, current.debug_draw_rejected = config.debug.draw_rejected;
-  current.debug_draw_text = config.debug.draw_text;
-  reconfigure_->updateConfig(current);
+  reconfigure_->updateConfig(rig_model::ToReconfigure<NodeConfig, ConeTrackerConfig>(NodeParams(), config));
   reconfigure_->setCallback([this](ConeTrackerConfig& cfg, uint32_t level) { OnReconfigure(cfg, level); });
-
-  info_sub_ = nh.subscribe("camera/camera_info", 1, &ConeTrackerNodelet::OnCameraInfo, this);
-  image_sub_ = it_->subscribe("camera/image_raw", 2, &ConeTrackerNodelet::OnImage, this);
-  NODELET_INFO("cone_tracker: %zu cones from %s; %s + %s -> cone_tracker/pose in '%s'", layout.size(),
-               config.layout_file.c_str(), image_sub_.getTopic().c_str(), info_sub_.getTopic().c_str(),
-               config.fixed_frame.c_str());
 }
 
 void ConeTrackerNodelet::OnReconfigure(ConeTrackerConfig& cfg, uint32_t /*level*/) {
   NodeConfig c = adapter_->config();
-  SegmenterConfig& s = c.segmenter;
-  s.hsi.hue_min_rad = cfg.hue_min_deg * M_PI / 180.0, s.hsi.hue_max_rad = cfg.hue_max_deg * M_PI / 180.0;
-  s.hsi.sat_min = cfg.sat_min, s.hsi.sat_max = cfg.sat_max, s.hsi.val_min = cfg.val_min, s.hsi.val_max = cfg.val_max;
-  s.min_area_px = cfg.min_area_px, s.max_area_px = cfg.max_area_px, s.border_px = cfg.border_px;
-  s.min_solidity = cfg.min_solidity, s.max_solidity = cfg.max_solidity;
-  s.min_axis_ratio = cfg.min_axis_ratio, s.max_axis_ratio = cfg.max_axis_ratio, s.max_tilt_deg = cfg.max_tilt_deg;
-  s.merge_lateral_frac = cfg.merge_lateral_frac, s.merge_gap_frac = cfg.merge_gap_frac;
-  s.refinement = PeakRefinement(cfg.peak_refinement);  // dynamic_reconfigure keeps it in [0, 2]
-  s.reject_bad_outline = cfg.reject_bad_outline;
-  ConePoseConfig& p = c.pose;
-  p.sigma_px = cfg.sigma_px, p.max_assignment_px = cfg.max_assignment_px, p.chi2_probability = cfg.chi2_probability;
-  p.max_translation_change_m = cfg.max_translation_change_m, p.max_rotation_change_deg = cfg.max_rotation_change_deg;
-  c.debug = DebugImageConfig{cfg.debug_tint_mask, cfg.debug_draw_rejected, cfg.debug_draw_text};
   try {
+    rig_model::FromReconfigure(NodeParams(), cfg, &c);
     adapter_->Reconfigure(c.segmenter, c.pose, c.debug);
   } catch (const std::exception& e) {
     NODELET_WARN("cone_tracker: reconfigure refused, settings unchanged: %s", e.what());

@@ -8,12 +8,13 @@ namespace cone_tracker {
 
 namespace {
 constexpr double kTwoPi = 2.0 * M_PI;
-}
+constexpr double kDegToRad = M_PI / 180.0;
+}  // namespace
 
 std::string HsiBounds::Validate() const {
   auto finite_in = [](double x, double lo, double hi) { return std::isfinite(x) && x >= lo && x <= hi; };
-  if (!finite_in(hue_min_rad, 0.0, kTwoPi)) return "hue_min_rad must be in [0, 2*pi]";
-  if (!finite_in(hue_max_rad, 0.0, kTwoPi)) return "hue_max_rad must be in [0, 2*pi]";
+  if (!finite_in(hue_min_deg, 0.0, 360.0)) return "hue_min_deg must be in [0, 360]";
+  if (!finite_in(hue_max_deg, 0.0, 360.0)) return "hue_max_deg must be in [0, 360]";
   if (!finite_in(sat_min, 0.0, 1.0)) return "sat_min must be in [0, 1]";
   if (!finite_in(sat_max, 0.0, 1.0) || sat_max < sat_min) return "sat_max must be in [sat_min, 1]";
   if (!finite_in(val_min, 0.0, 1.0)) return "val_min must be in [0, 1]";
@@ -22,7 +23,7 @@ std::string HsiBounds::Validate() const {
 }
 
 bool HsiBounds::operator==(const HsiBounds& o) const {
-  return hue_min_rad == o.hue_min_rad && hue_max_rad == o.hue_max_rad && sat_min == o.sat_min && sat_max == o.sat_max &&
+  return hue_min_deg == o.hue_min_deg && hue_max_deg == o.hue_max_deg && sat_min == o.sat_min && sat_max == o.sat_max &&
          val_min == o.val_min && val_max == o.val_max;
 }
 
@@ -48,8 +49,8 @@ void RgbToHsv(uint8_t r8, uint8_t g8, uint8_t b8, double* h_rad, double* s, doub
 bool InBounds(const HsiBounds& k, uint8_t r, uint8_t g, uint8_t b) {
   double h, s, v;
   RgbToHsv(r, g, b, &h, &s, &v);
-  const bool hue_ok = k.hue_min_rad <= k.hue_max_rad ? (h >= k.hue_min_rad && h <= k.hue_max_rad)
-                                                     : (h >= k.hue_min_rad || h <= k.hue_max_rad);
+  const double lo = k.hue_min_deg * kDegToRad, hi = k.hue_max_deg * kDegToRad;
+  const bool hue_ok = lo <= hi ? (h >= lo && h <= hi) : (h >= lo || h <= hi);
   return hue_ok && s >= k.sat_min && s <= k.sat_max && v >= k.val_min && v <= k.val_max;  // (3.22)
 }
 

@@ -94,6 +94,8 @@ std::string SegmenterConfig::Validate() const {
   if (!(min_axis_ratio >= 1.0) || !(max_axis_ratio >= min_axis_ratio)) return "axis ratio bounds invalid";
   if (!(max_tilt_deg >= 0.0 && max_tilt_deg <= 90.0)) return "max_tilt_deg must be in [0, 90]";
   if (line_search_misses < 1) return "line_search_misses must be >= 1";
+  if (peak_refinement < 0 || peak_refinement >= kPeakRefinements)
+    return "peak_refinement must be 0 (outline), 1 (templates) or 2 (none)";
   if (!(outline.outlier_px > 0.0) || !(outline.max_edge_rms_px > 0.0)) return "outline pixel bounds must be > 0";
   if (!(outline.min_inlier_frac >= 0.0 && outline.min_inlier_frac <= 1.0))
     return "outline.min_inlier_frac must be in [0, 1]";
@@ -117,7 +119,7 @@ Segmenter::Segmenter(const SegmenterConfig& config) : lut_(ValidatedHsi(config))
 
 void Segmenter::SetConfig(const SegmenterConfig& config) {
   lut_.Build(ValidatedHsi(config));  // a no-op when the bounds are unchanged
-  if (config.refinement == PeakRefinement::kTemplates && !templates_) {
+  if (config.refinement() == PeakRefinement::kTemplates && !templates_) {
     TemplateSetConfig tc;
     tc.max_tilt_deg = std::max(config.max_tilt_deg, 3.0);
     templates_ = std::make_shared<const ConeTemplateSet>(tc);  // 3.1.5.4: the whole set at start-up
@@ -214,7 +216,7 @@ bool Segmenter::Measure(const MaskView& mask, const CameraModel& camera, ConeDet
   det->base_px = b.centroid - reach[1 - peak_side] * dir_peak;
   det->mid_px = 0.5 * (det->peak_px + det->base_px);
   if (det->failed_gates != 0) return false;
-  switch (config_.refinement) {
+  switch (config_.refinement()) {
     case PeakRefinement::kOutline: {
       const OutlineFit fit = FitConeOutline(b.runs, search_peak, det->base_px, camera, config_.outline);
       if (fit.ok && OrangeBelowBase(mask, fit.peak_px, fit.base_px)) {
@@ -337,13 +339,6 @@ bool UndistortPixels(const CameraModel& camera, std::vector<Eigen::Vector2d>* po
     (*points)[i] = Eigen::Vector2d(dst[i].x, dst[i].y);
   }
   return true;
-}
-
-PeakRefinement ParsePeakRefinement(const std::string& name) {
-  if (name == "outline") return PeakRefinement::kOutline;
-  if (name == "templates") return PeakRefinement::kTemplates;
-  if (name == "none") return PeakRefinement::kNone;
-  throw std::invalid_argument("peak refinement must be outline, templates or none (got '" + name + "')");
 }
 
 std::string PeakRefinementName(PeakRefinement r) {

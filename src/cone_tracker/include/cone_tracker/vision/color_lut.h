@@ -4,17 +4,19 @@
 // ROS-free.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 namespace cone_tracker {
 
-// Bounds of (3.22). Hue in radians on [0, 2*pi); hue_min_rad > hue_max_rad
-// means the band wraps through red (0). Saturation and value on [0, 1].
+// Bounds of (3.22). Hue in degrees on [0, 360], as the parameters give it (the
+// table converts to the radians of (3.19)); hue_min_deg > hue_max_deg means the
+// band wraps through red (0). Saturation and value on [0, 1].
 struct HsiBounds {
-  double hue_min_rad = 0.0;   // orange under sun and shade on the rig_sim cones
-  double hue_max_rad = 0.70;  // ~40 deg
+  double hue_min_deg = 0.0;                    // orange under sun and shade on the rig_sim cones
+  double hue_max_deg = 0.70 / (M_PI / 180.0);  // 0.70 rad, ~40.1 deg
   double sat_min = 0.55;
   double sat_max = 1.0;
   double val_min = 0.20;

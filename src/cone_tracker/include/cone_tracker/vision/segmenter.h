@@ -32,10 +32,9 @@ namespace cone_tracker {
 //  kNone: the line search's ends.
 // The values are dynamic_reconfigure's (cfg/ConeTracker.cfg, peak_refinement).
 enum class PeakRefinement { kOutline = 0, kTemplates = 1, kNone = 2 };
+constexpr int kPeakRefinements = 3;
 
-// "outline", "templates", "none"; throws std::invalid_argument naming the
-// accepted names for anything else.
-PeakRefinement ParsePeakRefinement(const std::string& name);
+// "outline", "templates", "none": the parameter's names for the values.
 std::string PeakRefinementName(PeakRefinement r);
 
 struct SegmenterConfig {
@@ -58,8 +57,10 @@ struct SegmenterConfig {
   // hi-vis vest, a box's side) is not a cone.
   double max_tilt_deg = 50.0;
   int line_search_misses = 3;  // consecutive non-cone pixels ending the line search
-  // How the line search's peak and base are refined (see PeakRefinement).
-  PeakRefinement refinement = PeakRefinement::kOutline;
+  // How the line search's peak and base are refined: a PeakRefinement's value, held as an int so
+  // that the parameter table reads it by name or index like the others (node/params.cpp).
+  int peak_refinement = static_cast<int>(PeakRefinement::kOutline);
+  PeakRefinement refinement() const { return static_cast<PeakRefinement>(peak_refinement); }
   OutlineConfig outline;
   // With kOutline: a blob whose outline is not one cone's (two cones
   // overlapping in the image, a cone partly hidden) is rejected with

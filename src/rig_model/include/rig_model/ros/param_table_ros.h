@@ -27,8 +27,9 @@ void ReadReconfigureMessage(const dynamic_reconfigure::Config& msg,
 // Reads the table's parameters from `pnh` into `config` (absent ones keep the struct's defaults).
 // Throws std::invalid_argument naming the parameter: "parameter ~max_tilt_deg must be a number",
 // also for a parameter under ~ that the table does not know (a typo in a launch or YAML file).
-// Table names may be nested ("time_sync/window_s"). `also_known`: other names the component
-// legitimately has under ~ and reads itself (lists, files), checked for spelling all the same.
+// Table names may be nested ("time_sync/window_s"). `also_known`: other names or sub-namespaces
+// under ~ that the component reads itself (lists, files) or someone else reads (image_transport's),
+// checked for spelling all the same.
 template <class Config>
 void LoadParams(const ros::NodeHandle& pnh, const ParamTable<Config>& table, Config* config,
                 const std::vector<std::string>& also_known = {}) {

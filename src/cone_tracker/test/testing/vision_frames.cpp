@@ -1,4 +1,4 @@
-#include "vision_frames.h"
+#include "cone_tracker/testing/vision_frames.h"
 
 #include <Eigen/Geometry>
 

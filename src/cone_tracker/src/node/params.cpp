@@ -1,0 +1,74 @@
+#include "cone_tracker/node/params.h"
+
+#include <string>
+#include <vector>
+
+namespace cone_tracker {
+namespace {
+
+using Table = rig_model::ParamTable<NodeConfig>;
+
+std::vector<std::string> PeakRefinementNames() {
+  std::vector<std::string> names;
+  for (int i = 0; i < kPeakRefinements; ++i) names.push_back(PeakRefinementName(static_cast<PeakRefinement>(i)));
+  return names;
+}
+
+Table MakeTable() {
+  return Table()
+      .Add("layout_file", [](NodeConfig& c) -> std::string& { return c.layout_file; })
+      .Add("fixed_frame", [](NodeConfig& c) -> std::string& { return c.fixed_frame; })
+      .Add("camera_frame", [](NodeConfig& c) -> std::string& { return c.camera_frame; })
+      .Add("use_tf_prediction", [](NodeConfig& c) -> bool& { return c.use_tf_prediction; })
+      .Add("prediction_max_age_s", [](NodeConfig& c) -> double& { return c.prediction_max_age_s; })
+      .Add("reacquire_after_s", [](NodeConfig& c) -> double& { return c.reacquire_after_s; })
+      .Add("heading_prior_deg", [](NodeConfig& c) -> double& { return c.heading_prior_deg; })
+      .Add("expected_rate_hz", [](NodeConfig& c) -> double& { return c.expected_rate_hz; })
+      .Add("rate_tolerance", [](NodeConfig& c) -> double& { return c.rate_tolerance; })
+      // Segmentation (3.1.5): the HSI bounds (3.22), the ROI, the blob gates and the peak/base.
+      .Add("hue_min_deg", [](NodeConfig& c) -> double& { return c.segmenter.hsi.hue_min_deg; })
+      .Add("hue_max_deg", [](NodeConfig& c) -> double& { return c.segmenter.hsi.hue_max_deg; })
+      .Add("sat_min", [](NodeConfig& c) -> double& { return c.segmenter.hsi.sat_min; })
+      .Add("sat_max", [](NodeConfig& c) -> double& { return c.segmenter.hsi.sat_max; })
+      .Add("val_min", [](NodeConfig& c) -> double& { return c.segmenter.hsi.val_min; })
+      .Add("val_max", [](NodeConfig& c) -> double& { return c.segmenter.hsi.val_max; })
+      .Add("pyramid_levels", [](NodeConfig& c) -> int& { return c.segmenter.pyramid_levels; })
+      .Add("roi_margin_px", [](NodeConfig& c) -> int& { return c.segmenter.roi_margin_px; })
+      .Add("min_fragment_area_px", [](NodeConfig& c) -> int& { return c.segmenter.min_fragment_area_px; })
+      .Add("merge_lateral_frac", [](NodeConfig& c) -> double& { return c.segmenter.merge_lateral_frac; })
+      .Add("merge_gap_frac", [](NodeConfig& c) -> double& { return c.segmenter.merge_gap_frac; })
+      .Add("min_area_px", [](NodeConfig& c) -> double& { return c.segmenter.min_area_px; })
+      .Add("max_area_px", [](NodeConfig& c) -> double& { return c.segmenter.max_area_px; })
+      .Add("border_px", [](NodeConfig& c) -> int& { return c.segmenter.border_px; })
+      .Add("min_solidity", [](NodeConfig& c) -> double& { return c.segmenter.min_solidity; })
+      .Add("max_solidity", [](NodeConfig& c) -> double& { return c.segmenter.max_solidity; })
+      .Add("min_axis_ratio", [](NodeConfig& c) -> double& { return c.segmenter.min_axis_ratio; })
+      .Add("max_axis_ratio", [](NodeConfig& c) -> double& { return c.segmenter.max_axis_ratio; })
+      .Add("max_tilt_deg", [](NodeConfig& c) -> double& { return c.segmenter.max_tilt_deg; })
+      .Add("line_search_misses", [](NodeConfig& c) -> int& { return c.segmenter.line_search_misses; })
+      .AddEnum(
+          "peak_refinement", [](NodeConfig& c) -> int& { return c.segmenter.peak_refinement; }, PeakRefinementNames())
+      .Add("reject_bad_outline", [](NodeConfig& c) -> bool& { return c.segmenter.reject_bad_outline; })
+      .Add("template_search_px", [](NodeConfig& c) -> double& { return c.segmenter.template_search_px; })
+      .Add("outline_outlier_px", [](NodeConfig& c) -> double& { return c.segmenter.outline.outlier_px; })
+      .Add("outline_max_edge_rms_px", [](NodeConfig& c) -> double& { return c.segmenter.outline.max_edge_rms_px; })
+      // Correspondence and the gates (3.1.6, 6.4).
+      .Add("sigma_px", [](NodeConfig& c) -> double& { return c.pose.sigma_px; })
+      .Add("max_assignment_px", [](NodeConfig& c) -> double& { return c.pose.max_assignment_px; })
+      .Add("chi2_probability", [](NodeConfig& c) -> double& { return c.pose.chi2_probability; })
+      .Add("max_translation_change_m", [](NodeConfig& c) -> double& { return c.pose.max_translation_change_m; })
+      .Add("max_rotation_change_deg", [](NodeConfig& c) -> double& { return c.pose.max_rotation_change_deg; })
+      // The debug image.
+      .Add("debug_tint_mask", [](NodeConfig& c) -> bool& { return c.debug.tint_mask; })
+      .Add("debug_draw_rejected", [](NodeConfig& c) -> bool& { return c.debug.draw_rejected; })
+      .Add("debug_draw_text", [](NodeConfig& c) -> bool& { return c.debug.draw_text; });
+}
+
+}  // namespace
+
+const rig_model::ParamTable<NodeConfig>& NodeParams() {
+  static const Table table = MakeTable();
+  return table;
+}
+
+}  // namespace cone_tracker
