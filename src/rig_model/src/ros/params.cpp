@@ -1,89 +1,11 @@
 #include "rig_model/ros/params.h"
 
 #include <algorithm>
-#include <cmath>
+#include <stdexcept>
 
 #include "rig_model/strict_yaml.h"
 
 namespace rig_model {
-namespace {
-
-// Fetches ~name; false when it is absent.
-bool Fetch(const ros::NodeHandle& nh, const std::string& name, XmlRpc::XmlRpcValue* v) {
-  return nh.hasParam(name) && nh.getParam(name, *v);
-}
-
-[[noreturn]] void WrongType(const std::string& name, const std::string& must_be) {
-  throw std::invalid_argument("parameter ~" + name + " must be " + must_be);
-}
-
-}  // namespace
-
-void GetParam(const ros::NodeHandle& nh, const std::string& name, double* value) {
-  XmlRpc::XmlRpcValue v;
-  if (!Fetch(nh, name, &v)) return;
-  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) {
-    *value = static_cast<double>(v);
-  } else if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) {
-    *value = static_cast<int>(v);
-  } else if (v.getType() == XmlRpc::XmlRpcValue::TypeString && (std::string(v) == "nan" || std::string(v).empty())) {
-    *value = NAN;
-  } else {
-    WrongType(name, "a number");
-  }
-}
-
-void GetParam(const ros::NodeHandle& nh, const std::string& name, int* value) {
-  XmlRpc::XmlRpcValue v;
-  if (!Fetch(nh, name, &v)) return;
-  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) {
-    *value = static_cast<int>(v);
-  } else if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble && std::isfinite(double(v)) &&
-             double(v) == std::round(double(v))) {
-    *value = static_cast<int>(double(v));
-  } else {
-    WrongType(name, "an integer");
-  }
-}
-
-void GetParam(const ros::NodeHandle& nh, const std::string& name, bool* value) {
-  XmlRpc::XmlRpcValue v;
-  if (!Fetch(nh, name, &v)) return;
-  if (v.getType() != XmlRpc::XmlRpcValue::TypeBoolean) WrongType(name, "true or false");
-  *value = static_cast<bool>(v);
-}
-
-void GetParam(const ros::NodeHandle& nh, const std::string& name, std::string* value) {
-  XmlRpc::XmlRpcValue v;
-  if (!Fetch(nh, name, &v)) return;
-  if (v.getType() != XmlRpc::XmlRpcValue::TypeString) WrongType(name, "a string");
-  *value = static_cast<std::string>(v);
-}
-
-void GetEnumParam(const ros::NodeHandle& nh, const std::string& name, const std::vector<std::string>& names,
-                  int* index) {
-  XmlRpc::XmlRpcValue v;
-  if (!Fetch(nh, name, &v)) return;
-  const int n = static_cast<int>(names.size());
-  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt && int(v) >= 0 && int(v) < n) {
-    *index = static_cast<int>(v);
-    return;
-  }
-  if (v.getType() == XmlRpc::XmlRpcValue::TypeString) {
-    const auto it = std::find(names.begin(), names.end(), std::string(v));
-    if (it != names.end()) {
-      *index = static_cast<int>(it - names.begin());
-      return;
-    }
-  }
-  std::string list;
-  for (int i = 0; i < n; ++i) list += (i ? ", " : "") + names[i] + " (" + std::to_string(i) + ")";
-  std::string got = "a value of another type";
-  if (v.getType() == XmlRpc::XmlRpcValue::TypeString) got = "'" + std::string(v) + "'";
-  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) got = std::to_string(int(v));
-  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) got = std::to_string(double(v));
-  WrongType(name, "one of " + list + " (got " + got + ")");
-}
 
 void CheckParamNames(const ros::NodeHandle& nh, const std::vector<std::string>& known) {
   std::vector<std::string> all;
