@@ -42,7 +42,9 @@ std::string EkfConfig::Validate() const {
   if (reinit_after_rejections < 0) {
     err << "reinit_after_rejections must be >= 0, 0 never re-initialises (got " << reinit_after_rejections << "); ";
   }
-  return err.str();
+  std::string problems = err.str();
+  if (!problems.empty()) problems.resize(problems.size() - 2);  // every problem ends with "; "
+  return problems;
 }
 
 }  // namespace pose_ekf
