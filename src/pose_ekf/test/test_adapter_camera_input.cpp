@@ -125,25 +125,13 @@ TEST(AdapterCameraInput, TenWrongPosesDoNotMoveATrackingFilter) {
   EXPECT_LT(max_error_m, 0.02);
 }
 
-TEST(AdapterCameraInput, GateParametersAreLoadedAndBadValuesNamed) {
+TEST(AdapterCameraInput, GateParametersAreLoaded) {
   const std::string path = ::testing::TempDir() + "pose_ekf_gate_params.yaml";
   std::ofstream(path) << "camera_gate_chi2: 50.5\nreinit_after_rejections: 7\n";
   const pose_ekf::NodeConfig c = pose_ekf::LoadConfigFile(path);
   EXPECT_DOUBLE_EQ(c.ekf.camera_gate_chi2, 50.5);
   EXPECT_EQ(c.ekf.reinit_after_rejections, 7);
-  auto expect_refused = [&](const std::string& yaml, const std::string& name) {
-    std::ofstream(path) << yaml;
-    try {
-      pose_ekf::LoadConfigFile(path);
-      ADD_FAILURE() << "accepted " << yaml;
-    } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
-    }
-  };
-  expect_refused("camera_gate_chi2: -1\n", "camera_gate_chi2");
-  expect_refused("camera_gate_chi2: .inf\n", "camera_gate_chi2");
-  expect_refused("reinit_after_rejections: 2.5\n", "reinit_after_rejections");
-  expect_refused("reinit_after_rejections: -3\n", "reinit_after_rejections");
+  // Bad values are refused naming them: Replay.BadConfigFileValuesAreNamed.
 }
 
 }  // namespace

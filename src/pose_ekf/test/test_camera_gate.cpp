@@ -24,20 +24,6 @@ using pose_ekf::EkfCore;
 using pose_ekf::MeasurementBuffer;
 using pose_ekf::UpdateResult;
 
-CameraMeasurement Camera(double t, const pose_math::Pose& T, double sigma_rad, double sigma_m) {
-  CameraMeasurement m;
-  m.stamp_s = t;
-  m.T_cones_camera = T;
-  pose_math::Matrix6d cov6 = pose_math::Matrix6d::Zero();
-  cov6.diagonal() << Eigen::Vector3d::Constant(sigma_m * sigma_m), Eigen::Vector3d::Constant(sigma_rad * sigma_rad);
-  m.cov = pose_math::CovarianceThesisFromRos(T.q, cov6);
-  return m;
-}
-
-pose_math::Pose SomePose() {
-  return {pose_math::QuatFromRotationVector(Eigen::Vector3d(0.3, -0.2, 1.0)), Eigen::Vector3d(0.5, -2.0, 1.2)};
-}
-
 // A filter initialised from SomePose with sigma 0.01 rad / 0.01 m, no time passed:
 // S is then P + R = 2 R on the pose, so the statistic is known in closed form.
 EkfCore Initialised(const EkfConfig& c) {

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "pose_ekf/core/ekf_core.h"
+#include "pose_ekf/testing/synthetic_rig.h"
 #include "pose_math/covariance.h"
 #include "pose_math/rotation.h"
 
@@ -15,19 +16,8 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-CameraMeasurement Camera(double t, const pose_math::Pose& T, double sigma_rad = 0.01, double sigma_m = 0.01) {
-  CameraMeasurement m;
-  m.stamp_s = t;
-  m.T_cones_camera = T;
-  pose_math::Matrix6d cov6 = pose_math::Matrix6d::Zero();
-  cov6.diagonal() << Eigen::Vector3d::Constant(sigma_m * sigma_m), Eigen::Vector3d::Constant(sigma_rad * sigma_rad);
-  m.cov = pose_math::CovarianceThesisFromRos(T.q, cov6);
-  return m;
-}
-
-pose_math::Pose SomePose() {
-  return {pose_math::QuatFromRotationVector(Eigen::Vector3d(0.3, -0.2, 1.0)), Eigen::Vector3d(0.5, -2.0, 1.2)};
-}
+using pose_ekf_test::Camera;
+using pose_ekf_test::SomePose;
 
 double MinEigenvalue(const StateMatrix& P) {
   return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Eigen::MatrixXd(P)).eigenvalues().minCoeff();

@@ -186,6 +186,10 @@ TEST(Replay, BadConfigFileValuesAreNamed) {
   expect_refused("accel_mode: sideways\n", "accel_mode");
   expect_refused("sigma_gyro_rad_s: fast\n", "sigma_gyro_rad_s");
   expect_refused("cones_frame: ''\n", "cones_frame");
+  expect_refused("camera_gate_chi2: -1\n", "camera_gate_chi2");
+  expect_refused("camera_gate_chi2: .inf\n", "camera_gate_chi2");
+  expect_refused("reinit_after_rejections: 2.5\n", "reinit_after_rejections");
+  expect_refused("reinit_after_rejections: -3\n", "reinit_after_rejections");
 }
 
 }  // namespace

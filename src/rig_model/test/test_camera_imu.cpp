@@ -8,24 +8,10 @@
 #include <gtest/gtest.h>
 
 #include "rig_model/strict_yaml.h"
+#include "test_util.h"
 
 namespace rig_model {
 namespace {
-
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const FileError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-std::string WriteTemp(const std::string& text) {
-  const std::string path = testing::TempDir() + "rig_model_camera_imu_" + std::to_string(getpid()) + ".yaml";
-  std::ofstream(path) << text;
-  return path;
-}
 
 TEST(CameraImu, ShippedFilesLoad) {
   const CameraImuExtrinsics placeholder = LoadCameraImuFile(RIG_MODEL_SRC_DIR "/imu_driver/config/camera_imu.yaml");
@@ -51,17 +37,21 @@ TEST(CameraImu, NominalMountMapsImuAxesOntoTheCamera) {
 
 TEST(CameraImu, BadFilesAreRefusedAndNamed) {
   const std::string typo = ErrorOf([] {
-    LoadCameraImuFile(WriteTemp("camera_imu:\n  parent_frame: camera_optical\n  rotation_xyz: [0, 0, 0, 1]\n"));
+    LoadCameraImuFile(WriteTestFile("camera_imu.yaml",
+                                    "camera_imu:\n  parent_frame: camera_optical\n  rotation_xyz: [0, 0, 0, 1]\n"));
   });
   EXPECT_NE(typo.find(":3: unknown key 'camera_imu.rotation_xyz' (did you mean 'rotation_xyzw'?)"), std::string::npos)
       << typo;
-  const std::string norm =
-      ErrorOf([] { LoadCameraImuFile(WriteTemp("camera_imu:\n  rotation_xyzw: [0, 0, 0, 2]\n")); });
+  const std::string norm = ErrorOf(
+      [] { LoadCameraImuFile(WriteTestFile("camera_imu.yaml", "camera_imu:\n  rotation_xyzw: [0, 0, 0, 2]\n")); });
   EXPECT_NE(norm.find("camera_imu.rotation_xyzw: must be a unit quaternion"), std::string::npos) << norm;
-  const std::string missing = ErrorOf([] { LoadCameraImuFile(WriteTemp("camera_imu:\n  child_frame: imu\n")); });
+  const std::string missing =
+      ErrorOf([] { LoadCameraImuFile(WriteTestFile("camera_imu.yaml", "camera_imu:\n  child_frame: imu\n")); });
   EXPECT_NE(missing.find("camera_imu.rotation_xyzw: is missing"), std::string::npos) << missing;
-  const std::string len = ErrorOf(
-      [] { LoadCameraImuFile(WriteTemp("camera_imu:\n  rotation_xyzw: [0, 0, 0, 1]\n  translation_m: [1, 2]\n")); });
+  const std::string len = ErrorOf([] {
+    LoadCameraImuFile(
+        WriteTestFile("camera_imu.yaml", "camera_imu:\n  rotation_xyzw: [0, 0, 0, 1]\n  translation_m: [1, 2]\n"));
+  });
   EXPECT_NE(len.find("camera_imu.translation_m: must be a list of 3 numbers"), std::string::npos) << len;
 }
 

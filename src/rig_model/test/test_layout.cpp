@@ -11,27 +11,10 @@
 #include <gtest/gtest.h>
 
 #include "rig_model/strict_yaml.h"
+#include "test_util.h"
 
 namespace rig_model {
 namespace {
-
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const FileError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-// A file called `name` in a directory of this test's own.
-std::string WriteLayout(const std::string& name, const std::string& text) {
-  const std::string dir = testing::TempDir() + "rig_model_layout_" + std::to_string(getpid());
-  (void)system(("mkdir -p '" + dir + "'").c_str());
-  const std::string path = dir + "/" + name;
-  std::ofstream(path, std::ios::binary) << text;
-  return path;
-}
 
 std::vector<std::string> ShippedLayouts() {
   glob_t g;
@@ -106,14 +89,14 @@ TEST(Layout, ExplicitConesAndScenery) {
 
 TEST(Layout, MisspeltKeysAreRefusedAndNamed) {
   // The case: a typo inside a cone used to be ignored and the default height used.
-  const std::string path = WriteLayout("cones.yaml",
-                                       "# three cones\n"
-                                       "cones:\n"
-                                       "  - {x_m: 1.0, y_m: 0.0, height_m: 0.71}\n"
-                                       "  - {x_m: -0.5, y_m: 0.8, height_m: 0.71}\n"
-                                       "  - x_m: -0.5\n"
-                                       "    y_m: -0.8\n"
-                                       "    hieght_m: 0.71\n");
+  const std::string path = WriteTestFile("cones.yaml",
+                                         "# three cones\n"
+                                         "cones:\n"
+                                         "  - {x_m: 1.0, y_m: 0.0, height_m: 0.71}\n"
+                                         "  - {x_m: -0.5, y_m: 0.8, height_m: 0.71}\n"
+                                         "  - x_m: -0.5\n"
+                                         "    y_m: -0.8\n"
+                                         "    hieght_m: 0.71\n");
   const std::string e = ErrorOf([&] { LoadLayoutFile(path); });
   EXPECT_NE(e.find("cones.yaml:7: unknown key 'cones[2].hieght_m' (did you mean 'height_m'?)"), std::string::npos) << e;
   EXPECT_EQ(e.find(path), 0u) << e;  // the whole path, so the user finds the file

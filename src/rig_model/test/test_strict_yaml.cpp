@@ -5,24 +5,10 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include "test_util.h"
 
 namespace rig_model {
 namespace {
-
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const FileError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-std::string WriteTemp(const std::string& name, const std::string& text) {
-  const std::string path = testing::TempDir() + "rig_model_" + name;
-  std::ofstream(path, std::ios::binary) << text;
-  return path;
-}
 
 TEST(NearestKey, FindsTyposOnly) {
   const std::vector<std::string> known = {"x_m", "y_m", "z_m", "height_m", "style", "tau"};
@@ -64,11 +50,11 @@ TEST(StrictReader, NumbersAreCheckedAndNamed) {
 
 TEST(LoadYamlFile, NamesTheFileOnEveryFailure) {
   EXPECT_EQ(ErrorOf([] { LoadYamlFile("/nonexistent/rig.yaml"); }), "/nonexistent/rig.yaml: cannot open the file");
-  const std::string binary = WriteTemp("binary.yaml", std::string("a: 1\n\xfe\xff\x00\x01", 9));
+  const std::string binary = WriteTestFile("binary.yaml", std::string("a: 1\n\xfe\xff\x00\x01", 9));
   EXPECT_EQ(ErrorOf([&] { LoadYamlFile(binary); }), binary + ": not a text file (invalid UTF-8); expected YAML");
-  const std::string broken = WriteTemp("broken.yaml", "a: [1, 2\nb: 3\n");
+  const std::string broken = WriteTestFile("broken.yaml", "a: [1, 2\nb: 3\n");
   EXPECT_NE(ErrorOf([&] { LoadYamlFile(broken); }).find(broken + ":"), std::string::npos);
-  const std::string good = WriteTemp("good.yaml", "name: caf\xc3\xa9\n");
+  const std::string good = WriteTestFile("good.yaml", "name: caf\xc3\xa9\n");
   EXPECT_EQ(LoadYamlFile(good)["name"].Scalar(), "caf\xc3\xa9");
 }
 

@@ -125,4 +125,18 @@ double Nees(const pose_math::Pose& truth, const pose_math::PoseWithCovariance& e
   return e.dot(cov6.ldlt().solve(e));
 }
 
+pose_ekf::CameraMeasurement Camera(double t, const pose_math::Pose& T, double sigma_rad, double sigma_m) {
+  pose_ekf::CameraMeasurement m;
+  m.stamp_s = t;
+  m.T_cones_camera = T;
+  pose_math::Matrix6d cov6 = pose_math::Matrix6d::Zero();
+  cov6.diagonal() << Eigen::Vector3d::Constant(sigma_m * sigma_m), Eigen::Vector3d::Constant(sigma_rad * sigma_rad);
+  m.cov = pose_math::CovarianceThesisFromRos(T.q, cov6);
+  return m;
+}
+
+pose_math::Pose SomePose() {
+  return {pose_math::QuatFromRotationVector(Eigen::Vector3d(0.3, -0.2, 1.0)), Eigen::Vector3d(0.5, -2.0, 1.2)};
+}
+
 }  // namespace pose_ekf_test

@@ -55,6 +55,12 @@ Eigen::Matrix<double, 6, 1> PoseError(const pose_math::Pose& truth, const pose_m
 // eᵀ Σ6⁻¹ e with Σ6 from the estimate's 7×7 covariance.
 double Nees(const pose_math::Pose& truth, const pose_math::PoseWithCovariance& estimate);
 
+// A camera pose at stamp t with independent noise sigma_rad per rotation axis and sigma_m per
+// position axis (ROS's 6x6 form, mapped to the filter's 7x7 one).
+pose_ekf::CameraMeasurement Camera(double t, const pose_math::Pose& T, double sigma_rad = 0.01, double sigma_m = 0.01);
+// A pose away from the identity on every axis, for unit tests.
+pose_math::Pose SomePose();
+
 }  // namespace pose_ekf_test
 
 #include <functional>
