@@ -217,6 +217,29 @@ TEST(CameraGate, RejectionsInARowReinitialiseAndTheFilterFollows) {
   EXPECT_LT(run.max_position_error_m, 0.02);
 }
 
+// The re-initialisation restarts the pose, not the gyro: the bias learned so far is kept.
+TEST(CameraGate, ReinitialisationKeepsTheGyroBias) {
+  EkfConfig config;
+  config.estimate_gyro_bias = true;
+  config.reinit_after_rejections = 3;
+  MeasurementBuffer buffer(config);
+  ASSERT_EQ(buffer.AddCamera(Camera(0.0, SomePose())), AddResult::kInitialized);
+  pose_ekf::FilterState learned = buffer.filter().state();
+  ASSERT_GT(learned.x.size(), pose_ekf::kBaseStates);
+  learned.x.segment<3>(pose_ekf::kB) = Eigen::Vector3d(0.01, -0.02, 0.005);
+  learned.P.block<3, 3>(pose_ekf::kB, pose_ekf::kB) = 1e-8 * Eigen::Matrix3d::Identity();
+  const_cast<EkfCore&>(buffer.filter()).Restore(learned);
+  pose_math::Pose moved = SomePose();
+  moved.t.x() -= 5.0;
+  EXPECT_EQ(buffer.AddCamera(Camera(0.01, moved)), AddResult::kGated);
+  EXPECT_EQ(buffer.AddCamera(Camera(0.02, moved)), AddResult::kGated);
+  EXPECT_EQ(buffer.AddCamera(Camera(0.03, moved)), AddResult::kReinitialized);
+  EXPECT_LT((buffer.filter().Pose().pose.t - moved.t).norm(), 1e-9);
+  EXPECT_TRUE(buffer.filter().gyro_bias_rad_s().isApprox(Eigen::Vector3d(0.01, -0.02, 0.005), 1e-12));
+  // The learned variance (grown only by 0.03 s of random walk), not the initial 0.02^2 rad^2/s^2.
+  EXPECT_LT(buffer.filter().state().P(pose_ekf::kB, pose_ekf::kB), 1e-7);
+}
+
 TEST(CameraGate, RejectionsNotInARowOrWithReinitOffDoNotReinitialise) {
   const std::vector<Event> events = GenerateRig(Sim());
   // Every other frame wrong for 2 s: 30 rejections, never two in a row.

@@ -42,20 +42,39 @@ Eigen::Matrix3d MountRotation(const Eigen::Vector3d& mount_error_rpy_deg) {
   return nominal * pose_math::RotationFromEulerZyx(pose_math::EulerZyx{e.z(), e.y(), e.x(), false});
 }
 
+const std::vector<std::string>& CameraImuFileKeys() {
+  static const std::vector<std::string> keys = {"parent_frame",
+                                                "child_frame",
+                                                "translation_m",
+                                                "rotation_xyzw",
+                                                "method",
+                                                "rms_residual_deg",
+                                                "euler_minimisation_rotation_xyzw",
+                                                "euler_minimisation_rms_residual_deg",
+                                                "svd_vs_euler_deg",
+                                                "poses"};
+  return keys;
+}
+
 CameraImuExtrinsics LoadCameraImuFile(const std::string& path) {
   const YAML::Node root = LoadYamlFile(path);
   const StrictReader r(path);
   r.CheckKeys(root, {"camera_imu"}, "");
   const YAML::Node c = root["camera_imu"];
   if (!c) r.Fail(root, "camera_imu", "is missing");
-  r.CheckKeys(c, {"parent_frame", "child_frame", "translation_m", "rotation_xyzw"}, "camera_imu");
+  r.CheckKeys(c, CameraImuFileKeys(), "camera_imu");
   CameraImuExtrinsics e;
   e.parent_frame = r.String(c, "camera_imu", "parent_frame", e.parent_frame);
   e.child_frame = r.String(c, "camera_imu", "child_frame", e.child_frame);
+  if (e.parent_frame.empty()) r.Fail(c["parent_frame"], "camera_imu.parent_frame", "must not be empty");
+  if (e.child_frame.empty()) r.Fail(c["child_frame"], "camera_imu.child_frame", "must not be empty");
   if (c["translation_m"]) e.p_imu_in_camera_m = ReadVector(r, c, "camera_imu", "translation_m", 3);
   const Eigen::VectorXd q = ReadVector(r, c, "camera_imu", "rotation_xyzw", 4);
-  if (std::abs(q.squaredNorm() - 1.0) > 1e-3)
-    r.Fail(c["rotation_xyzw"], "camera_imu.rotation_xyzw", "must be a unit quaternion [x, y, z, w]");
+  // The tolerance of camera_imu_static_tf.py: a zero or unnormalised quaternion is a broken file.
+  if (std::abs(q.norm() - 1.0) > 1e-3) {
+    r.Fail(c["rotation_xyzw"], "camera_imu.rotation_xyzw",
+           "must be a unit quaternion [x, y, z, w] (norm " + std::to_string(q.norm()) + ")");
+  }
   e.q_camera_imu = Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized();
   return e;
 }

@@ -62,6 +62,9 @@ TEST(ParamTable, ConvertsWhatIsSafeAndRefusesTheRest) {
   Table().Set(&c, "border_px", 3.0);
   EXPECT_EQ(c.border_px, 3);
   EXPECT_EQ(ErrorOf([&] { Table().Set(&c, "border_px", 2.5); }), "border_px must be an integer");
+  EXPECT_EQ(ErrorOf([&] { Table().Set(&c, "border_px", 1e10); }), "border_px must be an integer");
+  Table().Set(&c, "heading_deg", std::string(""));  // a launch file's empty argument: not set
+  EXPECT_TRUE(std::isnan(c.heading_deg));
   EXPECT_EQ(ErrorOf([&] { Table().Set(&c, "reject", 1); }), "reject must be true or false");
   EXPECT_EQ(ErrorOf([&] { Table().Set(&c, "max_tilt_deg", std::string("x")); }), "max_tilt_deg must be a number");
   EXPECT_EQ(ErrorOf([&] { Table().Set(&c, "max_tlt_deg", 1.0); }),

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "rig_model/camera_imu.h"
 #include "rig_model/strict_yaml.h"
 
 namespace imu_driver {
@@ -28,19 +29,7 @@ Eigen::VectorXd Numbers(const rig_model::StrictReader& r, const YAML::Node& map,
 
 }  // namespace
 
-const std::vector<std::string>& CameraImuKeys() {
-  static const std::vector<std::string> keys = {"parent_frame",
-                                                "child_frame",
-                                                "translation_m",
-                                                "rotation_xyzw",
-                                                "method",
-                                                "rms_residual_deg",
-                                                "euler_minimisation_rotation_xyzw",
-                                                "euler_minimisation_rms_residual_deg",
-                                                "svd_vs_euler_deg",
-                                                "poses"};
-  return keys;
-}
+const std::vector<std::string>& CameraImuKeys() { return rig_model::CameraImuFileKeys(); }
 
 const std::vector<std::string>& GyroCalibrationKeys() {
   static const std::vector<std::string> keys = {"gyro_bias_rad_s", "gyro_noise_sigma_rad_s", "gyro_calibration_source"};
@@ -48,26 +37,12 @@ const std::vector<std::string>& GyroCalibrationKeys() {
 }
 
 CameraImuFile ReadCameraImuFile(const std::string& path) {
-  const rig_model::StrictReader r(path);
-  const YAML::Node root = rig_model::LoadYamlFile(path);
-  r.CheckKeys(root, {"camera_imu"}, "");
-  const YAML::Node c = root["camera_imu"];
-  if (!c) r.Fail(root, "camera_imu", "is missing");
-  r.CheckKeys(c, CameraImuKeys(), "camera_imu");
+  const rig_model::CameraImuExtrinsics e = rig_model::LoadCameraImuFile(path);
   CameraImuFile f;
-  f.parent_frame = r.String(c, "camera_imu", "parent_frame", f.parent_frame);
-  f.child_frame = r.String(c, "camera_imu", "child_frame", f.child_frame);
-  if (f.parent_frame.empty()) r.Fail(c["parent_frame"], "camera_imu.parent_frame", "must not be empty");
-  if (f.child_frame.empty()) r.Fail(c["child_frame"], "camera_imu.child_frame", "must not be empty");
-  if (c["translation_m"]) f.translation_m = Numbers(r, c, "camera_imu", "translation_m", 3);
-  if (!c["rotation_xyzw"]) r.Fail(c, "camera_imu.rotation_xyzw", "is missing");
-  const Eigen::VectorXd q = Numbers(r, c, "camera_imu", "rotation_xyzw", 4);
-  // The tolerance of camera_imu_static_tf.py: a zero or unnormalised quaternion is a broken file.
-  if (std::abs(q.norm() - 1.0) > 1e-3) {
-    r.Fail(c["rotation_xyzw"], "camera_imu.rotation_xyzw",
-           "must be a unit quaternion [x, y, z, w] (norm " + std::to_string(q.norm()) + ")");
-  }
-  f.q_camera_imu = Eigen::Quaterniond(q(3), q(0), q(1), q(2)).normalized();
+  f.parent_frame = e.parent_frame;
+  f.child_frame = e.child_frame;
+  f.translation_m = e.p_imu_in_camera_m;
+  f.q_camera_imu = e.q_camera_imu;
   return f;
 }
 

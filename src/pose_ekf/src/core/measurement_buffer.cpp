@@ -158,8 +158,10 @@ AddResult MeasurementBuffer::Add(Entry e) {
 // already received are re-applied, older ones are forgotten.
 AddResult MeasurementBuffer::ReinitializeFrom(size_t i) {
   const Entry camera = history_[i];
+  const FilterState before = ekf_.state();
   history_.erase(history_.begin(), history_.begin() + static_cast<std::ptrdiff_t>(i) + 1);
   ekf_.Initialize(camera.camera);  // usable: AddCamera checked it
+  KeepGyroBias(before);
   base_ = ekf_.state();
   for (Entry& e : history_) {
     Apply(e, false);
@@ -169,6 +171,16 @@ AddResult MeasurementBuffer::ReinitializeFrom(size_t i) {
   ++counters_.reinits;
   Trim();
   return AddResult::kReinitialized;
+}
+
+// A camera that disagrees with the filter says nothing about the gyro: the bias learned so far (and its
+// variance) survives a re-initialisation, when both states estimate it.
+void MeasurementBuffer::KeepGyroBias(const FilterState& before) {
+  FilterState s = ekf_.state();
+  if (before.x.size() != s.x.size() || s.x.size() <= kBaseStates) return;
+  s.x.segment<3>(kB) = before.x.segment<3>(kB);
+  s.P.block<3, 3>(kB, kB) = before.P.block<3, 3>(kB, kB);
+  ekf_.Restore(s);
 }
 
 AddResult MeasurementBuffer::InitializeFrom(const Entry& camera) {

@@ -114,11 +114,16 @@ void ValidateConfig(NodeConfig* config) {
   if (!(c.imu_expected_rate_hz > 0.0)) throw std::invalid_argument("imu_expected_rate_hz must be > 0");
   if (!(c.camera_expected_rate_hz > 0.0)) throw std::invalid_argument("camera_expected_rate_hz must be > 0");
   if (!(c.tf_timeout_s >= 0.0)) throw std::invalid_argument("tf_timeout_s must be >= 0");
+  // The ranges of PoseEkf.cfg, so that dynamic_reconfigure never clamps a loaded value.
   const int reinit = c.ekf.reinit_after_rejections;  // the table has refused a non-integer already
-  if (reinit < 0 || reinit > 1000000) {
+  if (reinit < 0 || reinit > 1000) {
     throw std::invalid_argument(
-        "reinit_after_rejections must be a whole number in [0, 1e6], 0 never re-initialises (got " +
+        "reinit_after_rejections must be a whole number in [0, 1000], 0 never re-initialises (got " +
         std::to_string(reinit) + ")");
+  }
+  if (c.ekf.camera_gate_chi2 > 1e6) {
+    throw std::invalid_argument("camera_gate_chi2 must be <= 1e6, 0 disables the gate (got " +
+                                std::to_string(c.ekf.camera_gate_chi2) + ")");
   }
   const std::string err = c.ekf.Validate();
   if (!err.empty()) throw std::invalid_argument(err);

@@ -110,7 +110,13 @@ AddResult PoseEkfAdapter::HandleCamera(const geometry_msgs::PoseWithCovarianceSt
     ++camera_rejected_;
     return Count(c);
   }
-  if (QuaternionFarFromUnit(msg.pose.pose.orientation)) ++camera_quaternions_normalized_;
+  if (QuaternionFarFromUnit(msg.pose.pose.orientation)) {
+    ++camera_quaternions_normalized_;
+    const auto& q = msg.pose.pose.orientation;
+    *why = std::string(kCameraTopic) +
+           ": pose.pose.orientation has |q|^2 = " + std::to_string(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z) +
+           ", normalised";
+  }
   const AddResult r = buffer_.AddCamera(m);
   const std::string topic = kCameraTopic;
   if (r == AddResult::kRejectedNonFinite) *why = topic + ": header.stamp not finite";

@@ -147,8 +147,11 @@ void PoseEkfNodelet::Report(AddResult r, const std::string& why, const char* wha
     ++time_jumps_back_;
     last_published_stamp_s_ = -1.0;
   }
-  if (r == AddResult::kRejectedNonFinite || r == AddResult::kRejectedInvalid || r == AddResult::kDroppedLate) {
+  if (r == AddResult::kRejectedNonFinite || r == AddResult::kRejectedInvalid || r == AddResult::kDroppedLate ||
+      r == AddResult::kGated) {
     NODELET_WARN_THROTTLE(1.0, "pose_ekf: %s %s: %s", what, ToString(r), why.c_str());
+  } else if (!why.empty() && r != AddResult::kReinitialized) {
+    NODELET_WARN_THROTTLE(5.0, "pose_ekf: %s: %s", what, why.c_str());  // used, with a note (e.g. |q| far from 1)
   }
   if (r == AddResult::kReinitialized) NODELET_WARN("pose_ekf: %s", why.c_str());  // once per re-initialisation
 }

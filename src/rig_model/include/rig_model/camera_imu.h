@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -29,5 +30,8 @@ Eigen::Matrix3d MountRotation(const Eigen::Vector3d& mount_error_rpy_deg);
 // strictly: unknown keys, a missing rotation or a quaternion whose norm is not 1 (to 1e-3) throw
 // FileError naming the file, line and field. The quaternion is normalised.
 CameraImuExtrinsics LoadCameraImuFile(const std::string& path);
+// The keys under `camera_imu:` (calibrate_camera_imu writes them all; the first four are the
+// extrinsics, the rest its report, read by people).
+const std::vector<std::string>& CameraImuFileKeys();
 
 }  // namespace rig_model

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -120,6 +121,8 @@ class ParamTable {
       *out = *d;
     } else if (const int* i = std::get_if<int>(&v)) {
       *out = *i;
+    } else if (const std::string* s = std::get_if<std::string>(&v); s && (s->empty() || *s == "nan")) {
+      *out = std::numeric_limits<double>::quiet_NaN();  // a launch file's "" or "nan": not set
     } else {
       Wrong(e, "a number");
     }
@@ -128,7 +131,9 @@ class ParamTable {
     if (!e.enum_names.empty()) return AssignEnum(e, out, v);
     if (const int* i = std::get_if<int>(&v)) {
       *out = *i;
-    } else if (const double* d = std::get_if<double>(&v); d && *d == static_cast<double>(static_cast<int>(*d))) {
+    } else if (const double* d = std::get_if<double>(&v);
+               d && *d >= std::numeric_limits<int>::min() && *d <= std::numeric_limits<int>::max() &&
+               *d == std::trunc(*d)) {  // range first: casting an out-of-range double is undefined
       *out = static_cast<int>(*d);
     } else {
       Wrong(e, "an integer");

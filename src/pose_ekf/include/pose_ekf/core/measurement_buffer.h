@@ -76,6 +76,7 @@ class MeasurementBuffer {
   AddResult Add(Entry e);
   bool DetectTimeJump(const Entry& e);
   AddResult InitializeFrom(const Entry& camera);
+  void KeepGyroBias(const FilterState& before);
   AddResult ReinitializeFrom(size_t i);
   // Returns the camera update's result (kDisabled for an IMU sample).
   UpdateResult Apply(Entry& e, bool count);
