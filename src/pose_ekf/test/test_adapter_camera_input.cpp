@@ -1,6 +1,8 @@
 // Camera poses as messages (no master): non-unit quaternions are normalised
 // and counted, zero or non-finite fields are refused naming the topic and the
 // field, and the ten wrong poses do not move a tracking filter.
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -126,7 +128,7 @@ TEST(AdapterCameraInput, TenWrongPosesDoNotMoveATrackingFilter) {
 }
 
 TEST(AdapterCameraInput, GateParametersAreLoaded) {
-  const std::string path = ::testing::TempDir() + "pose_ekf_gate_params.yaml";
+  const std::string path = ::testing::TempDir() + "pose_ekf_gate_params_" + std::to_string(getpid()) + ".yaml";
   std::ofstream(path) << "camera_gate_chi2: 50.5\nreinit_after_rejections: 7\n";
   const pose_ekf::NodeConfig c = pose_ekf::LoadConfigFile(path);
   EXPECT_DOUBLE_EQ(c.ekf.camera_gate_chi2, 50.5);

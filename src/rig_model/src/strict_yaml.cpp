@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace rig_model {
@@ -79,8 +80,13 @@ void StrictReader::Fail(const YAML::Node& at, const std::string& field, const st
 void StrictReader::CheckKeys(const YAML::Node& node, const std::vector<std::string>& known,
                              const std::string& where) const {
   if (!node.IsMap()) Fail(node, where.empty() ? "the file" : where, "must be a mapping of key: value");
+  std::map<std::string, std::string> seen;  // key -> its line: yaml-cpp's map[key] would take the first silently
   for (const auto& entry : node) {
     const std::string key = entry.first.Scalar();
+    if (!seen.emplace(key, Line(entry.first)).second) {
+      throw FileError(file_ + ":" + Line(entry.first) + ": duplicate key '" + FieldPath(where, key) +
+                      "' (first at line " + seen[key] + ")");
+    }
     if (std::find(known.begin(), known.end(), key) != known.end()) continue;
     const std::string nearest = NearestKey(key, known);
     std::string message = file_ + ":" + Line(entry.first) + ": unknown key '" + FieldPath(where, key) + "'";

@@ -29,6 +29,14 @@ TEST(StrictReader, UnknownKeyNamesFileLineFieldAndNearest) {
             "cones.yaml:4: unknown key 'cones[1].hieght_m' (did you mean 'height_m'?)");
 }
 
+TEST(StrictReader, DuplicateKeysAreRefused) {
+  const YAML::Node root = YAML::Load("cones:\n  - {x_m: 1.0, height_m: 0.5, height_m: 0.9}\n");
+  EXPECT_EQ(ErrorOf([&] {
+              StrictReader("d.yaml").CheckKeys(root["cones"][0], {"x_m", "height_m"}, "cones[0]");
+            }),
+            "d.yaml:2: duplicate key 'cones[0].height_m' (first at line 2)");
+}
+
 TEST(StrictReader, UnknownKeyWithoutNearListsTheKnownOnes) {
   const YAML::Node root = YAML::Load("wibble: 3\n");
   EXPECT_EQ(ErrorOf([&] {

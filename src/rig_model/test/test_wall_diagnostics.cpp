@@ -82,7 +82,6 @@ TEST_F(WallDiagnosticsTest, KeepsPublishingAfterSimTimeJumpsBack) {
   const int before = listener_.count["looping: counter"];
   EXPECT_TRUE(SpinUntil([&] { return listener_.count["looping: counter"] >= before + 5; }, 1000, Advance(&t_s, 0.05)))
       << "no /diagnostics after the jump back: " << listener_.count["looping: counter"] - before;
-  EXPECT_LT(t_s, 100.0);
   EXPECT_EQ(listener_.last["looping: counter"].level, diagnostic_msgs::DiagnosticStatus::OK);
 }
 

@@ -150,6 +150,7 @@ void ConeTrackerNodelet::OnReconfigure(ConeTrackerConfig& cfg, uint32_t /*level*
     adapter_->Reconfigure(c.segmenter, c.pose, c.debug);
   } catch (const std::exception& e) {
     NODELET_WARN("cone_tracker: reconfigure refused, settings unchanged: %s", e.what());
+    cfg = rig_model::ToReconfigure<NodeConfig, ConeTrackerConfig>(NodeParams(), adapter_->config());  // in use
   }
 }
 

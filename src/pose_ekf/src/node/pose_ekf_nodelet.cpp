@@ -12,6 +12,7 @@
 
 #include <map>
 #include <memory>
+#include <set>
 
 #include "pose_ekf/PoseEkfConfig.h"
 #include "pose_ekf/node/pose_ekf_adapter.h"
@@ -52,8 +53,9 @@ class PoseEkfNodelet : public nodelet::Nodelet {
   ros::Time last_now_;
   double last_published_stamp_s_ = -1.0;
   uint64_t imu_without_tf_ = 0, imu_without_tf_reported_ = 0;
-  uint64_t time_jumps_back_ = 0;  // ROS time or a message stamp: each one reset the filter
-  std::string imu_tf_error_;      // why the last IMU sample had no camera-IMU rotation
+  uint64_t time_jumps_back_ = 0;        // ROS time or a message stamp: each one reset the filter
+  std::string imu_tf_error_;            // why the last IMU sample had no camera-IMU rotation
+  std::set<std::string> imu_tf_tried_;  // IMU frames whose tf was looked up once (with the timeout)
 };
 
 void PoseEkfNodelet::onInit() {
@@ -122,7 +124,8 @@ void PoseEkfNodelet::OnReconfigure(PoseEkfConfig& cfg, uint32_t /*level*/) {
     ValidateConfig(&c);  // use_accel switches ekf.accel_mode between off and ~accel_mode
     adapter_->Reconfigure(c.ekf);
   } catch (const std::exception& ex) {
-    NODELET_WARN("pose_ekf: reconfigure refused: %s", ex.what());
+    NODELET_WARN("pose_ekf: reconfigure refused, settings unchanged: %s", ex.what());
+    cfg = rig_model::ToReconfigure<NodeConfig, PoseEkfConfig>(Params(), adapter_->config());  // what is in use
   }
 }
 
@@ -209,8 +212,11 @@ bool PoseEkfNodelet::ImuRotation(const std::string& imu_frame, Eigen::Quaternion
     return true;
   }
   try {
+    // Only the first lookup of a frame waits: a missing tf must not stall every 100 Hz sample (and with
+    // it this queue's diagnostics), and tf2's wait runs on ros::Time, which stands still with /clock.
+    const bool first = imu_tf_tried_.insert(imu_frame).second;
     const auto tf = tf_buffer_->lookupTransform(camera_frame, imu_frame, ros::Time(0),
-                                                ros::Duration(adapter_->config().tf_timeout_s));
+                                                ros::Duration(first ? adapter_->config().tf_timeout_s : 0.0));
     const auto& r = tf.transform.rotation;
     *q = Eigen::Quaterniond(r.w, r.x, r.y, r.z).normalized();
     imu_rotations_[imu_frame] = *q;

@@ -21,6 +21,13 @@ class _Map(dict):
 
 class _Loader(yaml.SafeLoader):
     def construct_mapping(self, node, deep=False):
+        seen = {}
+        for k, _ in node.value:  # PyYAML keeps the last of two equal keys, yaml-cpp the first: refuse both
+            if isinstance(k, yaml.ScalarNode):
+                if k.value in seen:
+                    raise yaml.constructor.ConstructorError(
+                        None, None, "duplicate key '%s' (first at line %d)" % (k.value, seen[k.value]), k.start_mark)
+                seen[k.value] = k.start_mark.line + 1
         m = _Map(super().construct_mapping(node, deep=deep))
         m.line = node.start_mark.line + 1
         m.key_lines = {self.construct_object(k, deep=True): k.start_mark.line + 1 for k, _ in node.value

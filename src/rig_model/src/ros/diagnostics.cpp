@@ -119,8 +119,22 @@ WallDiagnostics::WallDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandl
     : updater_(nh, pnh, node_name), namespace_(pnh.getNamespace()) {
   updater_.setHardwareID(hardware_id);
   ros::NodeHandle timer_nh(nh);
-  timer_ = timer_nh.createWallTimer(ros::WallDuration(period_s),
-                                    [this](const ros::WallTimerEvent&) { updater_.force_update(); });
+  // ~diagnostic_period, as for diagnostic_updater's own timer (the Updater read it in its constructor).
+  if (pnh.hasParam("diagnostic_period")) {
+    if (updater_.getPeriod() > 0.0 && updater_.getPeriod() <= 60.0) {
+      period_s = updater_.getPeriod();
+    } else {  // the diagnostics themselves must run: keep the default, say why
+      ROS_WARN("%s: parameter ~diagnostic_period must be in (0, 60] s (got %g); publishing every %g s",
+               namespace_.c_str(), updater_.getPeriod(), period_s);
+    }
+  }
+  timer_ = timer_nh.createWallTimer(ros::WallDuration(period_s), [this](const ros::WallTimerEvent&) {
+    try {
+      updater_.force_update();
+    } catch (const std::exception& e) {  // a task that throws must not take the nodelet manager down
+      ROS_ERROR_THROTTLE(5.0, "%s: diagnostics not published: %s", namespace_.c_str(), e.what());
+    }
+  });
 }
 
 void WallDiagnostics::Add(const std::string& name,

@@ -21,7 +21,7 @@ struct NodeConfig {
   double output_rate_hz = 0.0;  // > 0: also publish the pose predicted to now at this rate (thesis: 40 Hz)
   double imu_expected_rate_hz = 100.0;
   double camera_expected_rate_hz = 30.0;
-  double tf_timeout_s = 0.05;  // wait for the camera-IMU static transform
+  double tf_timeout_s = 0.05;  // the first lookup of the camera-IMU static transform waits this long
   // The parameters behind ekf.accel_mode and ekf.quat_integration (ApplyModes): the GUI switch
   // use_accel, the model it switches on (an AccelMode), and a QuatIntegration, as the table's ints.
   bool use_accel = true;

@@ -91,7 +91,7 @@ class WallDiagnostics {
   // node_name prefixes every status ("pose_ekf: filter"); pass the nodelet's getName(). The timer
   // runs on nh's callback queue, with the component's other callbacks.
   WallDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, const std::string& node_name,
-                  const std::string& hardware_id, double period_s = 1.0);
+                  const std::string& hardware_id, double period_s = 1.0);  // ~diagnostic_period, if set, wins
 
   // Tasks go through these (not the Updater) so that RefuseConfig can drop them.
   void Add(const std::string& name, std::function<void(diagnostic_updater::DiagnosticStatusWrapper&)> fn);
