@@ -92,3 +92,20 @@ overlay-platform: build
 	@mkdir -p $(ROOT)/out/experiments
 	@$(ENV) && bash $(ROOT)/src/ar_overlay/scripts/overlay_platform.sh $(ROOT)/out/experiments \
 	  $(PLATFORM_TRIALS) $(PLATFORM_DURATION_S) $(PLATFORM_RATE)
+
+# cone_tracker (issue 15): detect_cones on the labelled real photos of ../shared/data/images/tracon_train
+# (skipped when absent), scored by evaluate_detections against their YOLO labels: precision, recall,
+# AP50, the missed and false boxes, the PR curve and a contact sheet of the worst images in out/eval_photos/.
+.PHONY: eval-photos
+EVAL_PHOTOS := $(abspath $(ROOT)/../shared/data/images/tracon_train/images)
+eval-photos: build
+	@if [[ ! -d "$(EVAL_PHOTOS)" ]]; then \
+	  echo "eval-photos: skipped, $(EVAL_PHOTOS) is not there (the labelled photos, see cone_tracker's README)"; \
+	  exit 0; fi; \
+	mkdir -p $(ROOT)/out/eval_photos && $(ENV) && shopt -s nullglob && \
+	images=("$(EVAL_PHOTOS)"/*) && \
+	rc=0; rosrun cone_tracker detect_cones --config photos --output $(ROOT)/out/eval_photos/detections.jsonl \
+	  "$${images[@]}" || rc=$$?; \
+	if [[ $$rc -gt 1 ]]; then exit $$rc; fi; \
+	if [[ $$rc == 1 ]]; then echo "eval-photos: detect_cones could not read some images (above); scoring the rest"; fi; \
+	rosrun cone_tracker evaluate_detections $(ROOT)/out/eval_photos/detections.jsonl --output-dir $(ROOT)/out/eval_photos
