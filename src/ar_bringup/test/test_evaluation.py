@@ -5,7 +5,7 @@ import unittest
 import numpy as np
 from sensor_msgs.msg import CameraInfo
 
-from ar_bringup import evaluation, quat
+from ar_bringup import evaluation, quat, visibility
 
 
 def rot_z(angle_rad):
@@ -139,6 +139,122 @@ class EvaluationTest(unittest.TestCase):
         self.assertEqual(len(ev.overlay_t), 0)
 
 
+CONES = np.array([[1.0, 0.0, 0.71], [-0.4, 0.85, 0.71], [-0.6, -0.85, 0.46]])  # asymmetric.yaml: x, y, height
+
+
+def cone_markers(cones=CONES, radius_m=0.15, sides=24):
+    """rig_sim/cones as rig_sim draws it: per cone a TRIANGLE_LIST of (ring point, ring point, apex)."""
+    from geometry_msgs.msg import Point
+    from visualization_msgs.msg import Marker, MarkerArray
+    out = MarkerArray()
+    for x, y, h in cones:
+        m = Marker()
+        for k in range(sides):
+            for j in (k, k + 1):
+                a = 2 * np.pi * j / sides
+                m.points.append(Point(x + radius_m * np.cos(a), y + radius_m * np.sin(a), 0.0))
+            m.points.append(Point(x, y, h))
+        out.markers.append(m)
+    return out
+
+
+class VisibilityTest(unittest.TestCase):
+    """The spans by the cones in the TRUE view (ar_bringup.visibility) on synthetic poses."""
+
+    def setUp(self):
+        self.cones = visibility.cones_from_markers(cone_markers())
+
+    def test_cones_from_markers(self):
+        np.testing.assert_allclose(self.cones[:, 0], CONES, atol=1e-12)  # peaks
+        np.testing.assert_allclose(self.cones[:, 1], np.c_[CONES[:, :2], np.zeros(3)], atol=1e-12)  # base centres
+
+    def test_cones_in_view(self):
+        p, q = looking_at_cones(np.zeros(3))
+        info = camera_info()
+        q_away = quat.multiply(np.tile(rot_z(np.pi), (3, 1)), q)  # turned round: every cone behind
+        q_side = quat.multiply(np.tile(rot_z(np.radians(30)), (3, 1)), q)  # 30 deg left: 1 cone off the edge
+        n = visibility.cones_in_view(self.cones, p, np.array([q[0], q_away[0], q_side[0]]), info, evaluation.project)
+        self.assertEqual(list(n), [3, 0, 2])
+        # A cone whose peak is inside and base below the image is out of view: 1 m before cone 1, 0.9 m up.
+        low = visibility.cones_in_view(self.cones[:1], np.array([[1.0, -1.0, 0.9]]), q[:1], info)
+        self.assertEqual(list(visibility.cones_in_view(self.cones[:1], np.array([[1.0, -3.0, 0.9]]), q[:1], info)), [1])
+        self.assertEqual(list(low), [0])
+
+    def test_classes_and_time_since_view(self):
+        frame_t = np.arange(0.0, 10.0, 0.1)
+        counts = np.where(frame_t < 2.05, 3, np.where(frame_t < 3.05, 1, 0))  # 3 cones to 2.0, 1 to 3.0, then none
+        counts[(frame_t > 7.95) & (frame_t < 8.05)] = 2  # one frame at 8.0 with two cones
+        t = np.array([-0.5, 1.0, 2.5, 3.5, 4.5, 5.5, 8.02, 8.5, 9.5])
+        cls, since = visibility.classify(t, frame_t, counts)
+        names = [visibility.CLASSES[c][0] if c >= 0 else None for c in cls]
+        self.assertEqual(names, [None, "3plus", "1to2", "none_0to1s", "none_1to2s", "none_over2s", "1to2",
+                                 "none_0to1s", "none_1to2s"])
+        np.testing.assert_allclose(since[1:], [0, 0, 0.5, 1.5, 2.5, 0, 0.5, 1.5], atol=1e-9)
+        self.assertTrue(np.isinf(since[0]))
+        # Never in view: everything is "none > 2 s".
+        cls, _ = visibility.classify(np.array([0.5, 1.0]), frame_t, np.zeros(len(frame_t), int))
+        self.assertEqual(list(cls), [4, 4])
+
+    def test_updated_frames(self):
+        frame_t = np.arange(0.0, 1.0, 1 / 30.0)
+        pose_t = frame_t[:10] + 1e-6
+        obs_t = frame_t[20:25]
+        up = visibility.updated_frames(frame_t, pose_t, obs_t)
+        self.assertEqual(int(up.sum()), 15)
+        self.assertTrue(up[:10].all() and up[20:25].all() and not up[10:20].any())
+        self.assertFalse(visibility.updated_frames(frame_t, [0.5 + 1 / 60.0], []).any())  # between frames
+
+    def test_evaluate_splits_by_true_view(self):
+        # Truth: looking at the cones until 5 s, then turned round. The EKF is 1 cm off along cones x
+        # throughout; tracker poses on the frames to 3 s, observations on 3.0-3.4 s.
+        t = np.arange(0.0, 10.0 + 1e-9, 1.0 / 300)
+        p, q = looking_at_cones(t)
+        q = np.where((t >= 5.0)[:, None], quat.multiply(np.tile(rot_z(np.pi), (len(t), 1)), q), q)
+        truth = evaluation.Poses(t, p, q)
+        te = np.arange(0.0, 10.0, 0.01)
+        ok, pe, qe = truth.interpolate(te)
+        ekf = evaluation.Poses(te, pe + [0.01, 0, 0], qe, np.zeros((len(te), 6, 6)))
+        frame_t = np.round(np.arange(0.0, 10.0, 0.1), 9)
+        rec = recording(truth, ekf, frame_t, camera_info(), tracker_t=frame_t[frame_t < 2.95])
+        rec.cones = self.cones
+        rec.observation_t = frame_t[(frame_t > 2.95) & (frame_t < 3.45)]
+        ev = evaluation.evaluate(rec, settle_s=0.0, full_width_px=1024)
+        s = ev.summary
+        self.assertEqual(s["view_3plus_frames"], 50.0)
+        self.assertEqual(s["view_1to2_frames"], 0.0)
+        self.assertEqual(s["view_3plus_frames"] + s["view_none_0to1s_frames"] + s["view_none_1to2s_frames"]
+                         + s["view_none_over2s_frames"], 100.0)
+        self.assertAlmostEqual(s["view_3plus_updated_fraction"], 35 / 50.0)
+        self.assertEqual(s["view_none_over2s_updated_fraction"], 0.0)
+        for key in ("3plus", "none_0to1s", "none_over2s"):
+            self.assertAlmostEqual(s["view_%s_position_rms_m" % key], 0.01, places=9)
+            self.assertAlmostEqual(s["view_%s_position_median_m" % key], 0.01, places=9)
+            self.assertAlmostEqual(s["view_%s_orientation_rms_deg" % key], 0.0, places=6)
+        # The camera's x is cones x while looking: a point at depth z moves 500 * 0.01 / z px, x 1024 / 640.
+        pts = self.cones.reshape(-1, 3)
+        depth = pts[:, 1] + 5.0
+        self.assertAlmostEqual(s["view_3plus_overlay_rms_px"], np.mean(500 * 0.01 / depth) * 1.6, places=9)
+        self.assertTrue(np.isnan(s["view_none_over2s_overlay_rms_px"]))  # every cone behind the true camera
+        self.assertEqual(set(ev.view.ekf_class[te < 4.99]), {0})
+        self.assertEqual(set(ev.view.ekf_class[(te > 5.05) & (te < 5.85)]), {2})
+        self.assertEqual(set(ev.view.ekf_class[te > 6.95]), {4})
+        # The existing figures are still there.
+        self.assertAlmostEqual(s["position_rms_m"], 0.01, places=9)
+
+    def test_recording_from_messages_reads_cones_and_observations(self):
+        from cone_tracker.msg import ConeObservation, ConeObservations
+        import rospy
+        empty, full = ConeObservations(), ConeObservations()
+        empty.header.stamp, full.header.stamp = rospy.Time(1.0), rospy.Time(2.0)
+        full.cones.append(ConeObservation())
+        rec = evaluation.recording_from_messages([("/rig_sim/cones", cone_markers()),
+                                                  ("cone_tracker/observations", empty),
+                                                  ("cone_tracker/observations", full)])
+        np.testing.assert_allclose(rec.cones[:, 0], CONES, atol=1e-12)
+        np.testing.assert_allclose(rec.observation_t, [2.0])
+        self.assertIsNone(evaluation.evaluate(rec).view)  # no truth: no view figures, no crash
+
+
 class EvaluateBagCliTest(unittest.TestCase):
     """rosrun ar_bringup evaluate_bag on a bag cut short: exit 1, one stderr line saying so."""
 
@@ -179,7 +295,7 @@ class AllTests(unittest.TestSuite):
     def __init__(self):
         loader = unittest.defaultTestLoader
         super().__init__([loader.loadTestsFromTestCase(QuatTest), loader.loadTestsFromTestCase(EvaluationTest),
-                          loader.loadTestsFromTestCase(EvaluateBagCliTest)])
+                          loader.loadTestsFromTestCase(VisibilityTest), loader.loadTestsFromTestCase(EvaluateBagCliTest)])
 
 
 if __name__ == "__main__":

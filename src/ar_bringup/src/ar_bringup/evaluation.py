@@ -27,10 +27,10 @@ import cv2
 import image_geometry
 import numpy as np
 
-from ar_bringup import quat
+from ar_bringup import quat, visibility
 
 TOPICS = ("rig_sim/ground_truth", "pose_ekf/pose", "cone_tracker/pose", "cone_tracker/detections",
-          "camera/camera_info", "imu/data_raw", "/diagnostics")
+          "camera/camera_info", "imu/data_raw", "/diagnostics", "rig_sim/cones", "cone_tracker/observations")
 # The default overlay model: a 1 m cube standing on the cones' centroid (its 8 corners and centre),
 # the size of the models ar_overlay places among the cones.
 DEFAULT_MODEL_POINTS = np.array([[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (0.0, 1.0)]
@@ -81,6 +81,8 @@ class Recording:
     diagnostics: Dict[str, Dict[str, str]]  # status name -> last key/value pairs
     counts: Dict[str, int]
     pose_rejections: Dict[str, float] = dataclasses.field(default_factory=dict)  # per reason, from detections
+    cones: Optional[np.ndarray] = None      # (N, 2, 3) true [peak, base] per cone from rig_sim/cones
+    observation_t: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0))  # non-empty observations
 
 
 def _pose_arrays(msgs, with_cov):
@@ -135,7 +137,10 @@ def recording_from_messages(messages: Iterable[Tuple[str, object]]) -> Recording
         imu_t=np.sort(np.array([m.header.stamp.to_sec() for m in get("imu/data_raw")], dtype=float)),
         diagnostics=diagnostics,
         counts={name: len(by_topic.get(name.lstrip("/"), [])) for name in TOPICS},
-        pose_rejections=_pose_rejections(dets))
+        pose_rejections=_pose_rejections(dets),
+        cones=visibility.cones_from_markers(get("rig_sim/cones")[-1]) if get("rig_sim/cones") else None,
+        observation_t=np.sort(np.array([m.header.stamp.to_sec() for m in get("cone_tracker/observations")
+                                        if len(getattr(m, "cones", []))], dtype=float)))
 
 
 def bag_messages(path: str, topics=TOPICS):
@@ -157,12 +162,15 @@ def message_types():
     from diagnostic_msgs.msg import DiagnosticArray
     from geometry_msgs.msg import PoseStamped, PoseWithCovarianceStamped
     from sensor_msgs.msg import CameraInfo, Imu
+    from visualization_msgs.msg import MarkerArray
     types = {"rig_sim/ground_truth": PoseStamped, "pose_ekf/pose": PoseWithCovarianceStamped,
              "cone_tracker/pose": PoseWithCovarianceStamped, "camera/camera_info": CameraInfo,
-             "imu/data_raw": Imu, "/diagnostics": DiagnosticArray}
+             "imu/data_raw": Imu, "/diagnostics": DiagnosticArray, "rig_sim/cones": MarkerArray}
     try:
         from cone_tracker.msg import ConeDetections
         types["cone_tracker/detections"] = ConeDetections
+        from cone_tracker.msg import ConeObservations
+        types["cone_tracker/observations"] = ConeObservations
     except ImportError:
         pass
     return types
@@ -246,6 +254,7 @@ class Evaluation:
     rejections: Dict[str, float]
     rates_hz: Dict[str, float]
     summary: Dict[str, float]
+    view: Optional[visibility.ViewSeries] = None  # errors by the cones in the true view (visibility.py)
 
     def ekf_error_after(self, t0, window_s):
         """Max orientation (deg) and position (m) error of the EKF in [t0, t0 + window_s]."""
@@ -329,7 +338,7 @@ def tracking(t, tracker_t, window_s):
 
 
 def evaluate(rec: Recording, model_points=DEFAULT_MODEL_POINTS, settle_s=1.0, max_gap_s=0.2,
-             min_visible_cones=1, tracking_window_s=0.5) -> Evaluation:
+             min_visible_cones=1, tracking_window_s=0.5, full_width_px=visibility.FULL_WIDTH_PX) -> Evaluation:
     """Errors, periods, rejections, rates and the summary figures of a Recording.
 
     settle_s: the summary's RMS figures skip the first settle_s after the EKF's first output (the filter
@@ -337,6 +346,9 @@ def evaluate(rec: Recording, model_points=DEFAULT_MODEL_POINTS, settle_s=1.0, ma
     max_gap_s: tracker poses further apart than this split the accepted periods (an outage).
     min_visible_cones: a detections message with at least this many accepted cones counts as "visible".
     tracking_window_s: the tracking_* figures cover the stamps at most this long after a tracker pose.
+    full_width_px: the camera's full-resolution width, for the view_*_overlay figures (visibility.py).
+    The view_<class>_<figure> figures split the errors by the cones in the TRUE view (visibility.CLASSES);
+    they need rig_sim/cones in the recording.
     """
     ekf, trk = _errors(rec.ekf, rec.truth), _errors(rec.tracker, rec.truth)
     ov_t, ov_px = overlay_errors(rec, model_points)
@@ -381,4 +393,8 @@ def evaluate(rec: Recording, model_points=DEFAULT_MODEL_POINTS, settle_s=1.0, ma
         "outages": float(len(gaps)),
         "ekf_nan": float(np.count_nonzero(~np.isfinite(rec.ekf.p).all(axis=1) | ~np.isfinite(rec.ekf.q).all(axis=1))),
     }
-    return Evaluation(ekf, trk, ov_t, ov_px, spans, gaps, visible, rejections, rates, summary)
+    view = visibility.series(rec, ekf, t0, full_width_px, project)
+    if view is not None:
+        for key, figs in view.figures.items():
+            summary.update({"view_%s_%s" % (key, name): value for name, value in figs.items()})
+    return Evaluation(ekf, trk, ov_t, ov_px, spans, gaps, visible, rejections, rates, summary, view)
