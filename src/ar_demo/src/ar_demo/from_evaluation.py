@@ -7,7 +7,7 @@ rejection happened (from each cone_tracker/detections message's reasons, and fro
 a rejection counter in /diagnostics), and the rate of the overlay images.
 """
 import numpy as np
-from ar_bringup import evaluation
+from ar_bringup import evaluation, visibility
 
 from .summary import PoseErrors, RunSummary
 
@@ -67,18 +67,23 @@ def _errors(e, t0):
                       e.sigma3_pos_m, None if e.sigma3_rot_deg is None else rad(e.sigma3_rot_deg))
 
 
-def summarize(run_bag, truth_bag=None, name=None):
-    """-> (RunSummary, t0): t0 is the stamp that the summary's times count from (the first truth)."""
+def summarize(run_bag, truth_bag=None, name=None, full_width_px=visibility.FULL_WIDTH_PX):
+    """-> (RunSummary, t0): t0 is the stamp that the summary's times count from (the first truth).
+    full_width_px: the camera's full-resolution width, for the overlay error by cones in view."""
     messages, frames = read_run(run_bag)
     rec = evaluation.recording_from_messages(messages)
-    if not len(rec.truth) and truth_bag:
-        rec.truth = evaluation.load_bag(truth_bag, topics=("rig_sim/ground_truth",)).truth
+    missing = [t for t, absent in (("rig_sim/ground_truth", not len(rec.truth)), ("rig_sim/cones", rec.cones is None))
+               if absent]
+    if missing and truth_bag:
+        truth = evaluation.load_bag(truth_bag, topics=tuple(missing))
+        rec.truth = truth.truth if len(truth.truth) else rec.truth
+        rec.cones = truth.cones if truth.cones is not None else rec.cones
     summary = RunSummary()
     summary.name = name or (truth_bag or run_bag).rsplit("/", 1)[-1]
     if not len(rec.truth):
         summary.notes.append("no rig_sim/ground_truth in the bags: no errors against ground truth")
         return summary, 0.0
-    ev = evaluation.evaluate(rec, min_visible_cones=MIN_VISIBLE_CONES)
+    ev = evaluation.evaluate(rec, min_visible_cones=MIN_VISIBLE_CONES, full_width_px=full_width_px)
     t0 = float(rec.truth.t[0])
     summary.duration_s = float(rec.truth.t[-1] - t0)
     summary.ekf = _errors(ev.ekf, t0)
@@ -98,4 +103,16 @@ def summarize(run_bag, truth_bag=None, name=None):
     summary.rates = [(RATES[k][0], hz, RATES[k][1]) for k, hz in ev.rates_hz.items() if k in RATES]
     if frames.size > 1:
         summary.rates.append((OVERLAY, (frames.size - 1) / (frames[-1] - frames[0]), 30.0))
+    if ev.view is None:
+        summary.notes.append("no rig_sim/cones in the bags: no errors by the cones in the true view")
+    else:
+        summary.view_figures = ev.view.figures
+        summary.view_full_width_px = ev.view.full_width_px
+        summary.view_ekf_since_s = ev.view.ekf_since_s
+        summary.view_frame_t_s = ev.view.frame_t - t0
+        summary.view_frame_since_s = ev.view.frame_since_s
+        summary.view_overlay_px = ev.view.overlay_px
+        if not rec.counts.get("cone_tracker/observations"):
+            summary.notes.append("no cone_tracker/observations recorded: a frame counts as updating the filter "
+                                 "only with a cone_tracker/pose")
     return summary, t0

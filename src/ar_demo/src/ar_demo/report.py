@@ -42,6 +42,12 @@ def draw_plots(summary, out_dir):
                             summary.overlay_err_px, summary.visible)
         drawn.append(("overlay_error.png", "overlay error: model points drawn at the estimated "
                       "pose against the same points at the true pose, in pixels"))
+    if summary.view_figures is not None and ekf is not None and len(ekf):
+        plots.error_since_view(os.path.join(out_dir, "error_since_view.png"), summary.view_ekf_since_s,
+                               ekf.pos_err_m, ekf.rot_err_rad, summary.view_frame_since_s, summary.view_overlay_px,
+                               summary.view_full_width_px)
+        drawn.append(("error_since_view.png", "error against the time since any cone was last in the true "
+                      "camera view (0: in view); the overlay error of the cones' peaks and bases at full resolution"))
     plots.gate_rejections(os.path.join(out_dir, "gate_rejections.png"), summary.gates,
                           summary.duration_s, summary.visible)
     drawn.append(("gate_rejections.png", "measurements rejected by each gate, cumulative"))
@@ -50,6 +56,32 @@ def draw_plots(summary, out_dir):
         plots.rates(os.path.join(out_dir, "rates.png"), names, measured, expected)
         drawn.append(("rates.png", "message rates during the replay"))
     return drawn
+
+
+VIEW_COLUMNS = (("frames", "frames", 1.0), ("updated_fraction", "frames that updated the filter [%]", 100.0),
+                ("position_rms_m", "position RMS [mm]", 1e3), ("position_median_m", "position median [mm]", 1e3),
+                ("orientation_rms_deg", "orientation RMS [deg]", 1.0), ("overlay_rms_px", "overlay RMS [px]", 1.0),
+                ("overlay_median_px", "overlay median [px]", 1.0))
+
+
+def view_table(summary):
+    """Markdown lines: the EKF's errors by the cones in the TRUE camera view (ar_bringup.visibility)."""
+    if summary.view_figures is None:
+        return []
+    from ar_bringup.visibility import CLASSES
+    lines = ["What a user sees: the errors split by the cones in the *true* camera view (a cone is in view when "
+             "its peak and base project inside the image under the true pose); with none in view, by the time "
+             "since one last was. Overlay: the cones' peaks and bases drawn at the EKF pose against the true "
+             "pose (camera_info's K), at the full resolution of %d px wide. A frame updated the filter when the "
+             "tracker published a `cone_tracker/pose` or a non-empty `cone_tracker/observations` for it. "
+             "Errors skip the EKF's first second." % summary.view_full_width_px, "",
+             "| cones in the true view | " + " | ".join(c[1] for c in VIEW_COLUMNS) + " |",
+             "|---|" + "---:|" * len(VIEW_COLUMNS)]
+    for key, label in CLASSES:
+        figs = summary.view_figures.get(key, {})
+        lines.append("| %s | " % label + " | ".join(_fmt(figs.get(name, float("nan")) * scale)
+                                                    for name, _, scale in VIEW_COLUMNS) + " |")
+    return lines + [""]
 
 
 def write_report(summary, out_dir, video=None, screenshot=None, path=None):
@@ -90,10 +122,13 @@ def write_report(summary, out_dir, video=None, screenshot=None, path=None):
     lines += ["Cones in view (at least three detected): %s. Tracker poses: %s." % (spans(summary.visible),
               spans(summary.accepted)), ""]
 
+    lines += view_table(summary)
     if summary.evaluation:
         lines += ["`ar_bringup.evaluation`'s summary of the same run (the system tests' figures; RMS "
-                  "figures skip the EKF's first second):", "", "| figure | value |", "|---|---:|"]
-        lines += ["| `%s` | %s |" % (k, _fmt(v)) for k, v in summary.evaluation.items()] + [""]
+                  "figures skip the EKF's first second; the `view_*` figures are in the table above):", "",
+                  "| figure | value |", "|---|---:|"]
+        lines += ["| `%s` | %s |" % (k, _fmt(v)) for k, v in summary.evaluation.items()
+                  if not k.startswith("view_")] + [""]
     lines += ["## Plots", ""]
     for name, caption in drawn:
         lines += [caption[0].upper() + caption[1:] + ":", "", "![%s](%s)" % (name, name), ""]

@@ -41,6 +41,13 @@ class RunSummary:
         self.evaluation = {}  # ar_bringup.evaluation's summary figures, by name
         self.rates = []  # [(topic, measured_hz, expected_hz or None)]
         self.notes = []  # lines the evaluation wants shown (what it could not compute, and why)
+        # By the cones in the TRUE camera view (ar_bringup.visibility), None without rig_sim/cones:
+        self.view_figures = None  # {class key: {figure name: value}}, in visibility.CLASSES order
+        self.view_full_width_px = 0.0  # the overlay figures' full-resolution width
+        self.view_ekf_since_s = np.zeros(0)  # per EKF sample (self.ekf): seconds since a cone was in view
+        self.view_frame_t_s = np.zeros(0)  # per camera frame: time, seconds since a cone was in view,
+        self.view_frame_since_s = np.zeros(0)  # and the full-resolution overlay error of the cones
+        self.view_overlay_px = np.zeros(0)
 
 
 def in_periods(t_s, periods):
