@@ -85,6 +85,16 @@ class ApTest(unittest.TestCase):
         a.scores = np.array([0.9, 0.1])
         self.assertAlmostEqual(de.score([a]).ap, 1.0, places=12)
 
+    def test_equal_scores_are_one_point(self):
+        # Without scores (all 1.0) the order of the images must not matter: one point, AP = P x R.
+        a = result([[0, 0, 10, 10]], [[0, 0, 10, 10]], [1.0])
+        b = result([[0, 0, 10, 10]], [[80, 0, 5, 5]], [1.0])
+        for images in ([a, b], [b, a]):
+            s = de.score(images)
+            np.testing.assert_allclose(s.curve_recall, [0.5])
+            np.testing.assert_allclose(s.curve_precision, [0.5])
+            self.assertAlmostEqual(s.ap, 0.25, places=12)
+
     def test_interpolation(self):
         self.assertAlmostEqual(de.average_precision(np.array([0.5, 0.5, 1.0]), np.array([1.0, 0.5, 2 / 3.0])),
                                0.5 + 0.5 * 2 / 3.0)

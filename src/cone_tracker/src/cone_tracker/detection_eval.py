@@ -6,7 +6,8 @@ fractions of the image's width and height (a missing label file: no cone in the 
 are matched greedily by descending score over all images (as COCO does): each one takes the label of
 its image, not yet taken, with the highest IoU, a true positive when that IoU >= the threshold (0.5),
 otherwise a false positive; labels left unmatched are missed. The average precision (AP50) is
-the area under the all-point interpolated precision-recall curve (VOC 2010+). No ROS: plain Python,
+the area under the all-point interpolated precision-recall curve (VOC 2010+), with one curve point per
+distinct score (detections without a score, all 1.0, give a single point: AP = precision x recall). No ROS: plain Python,
 numpy only (the figures are drawn by ``detection_plots``).
 """
 import dataclasses
@@ -54,7 +55,7 @@ class Scores:
     precision: float
     recall: float
     ap: float
-    curve_recall: np.ndarray            # the PR curve, one point per detection by descending score
+    curve_recall: np.ndarray            # the PR curve, one point per distinct score, descending
     curve_precision: np.ndarray
     iou_threshold: float
 
@@ -216,9 +217,13 @@ def score(images: List[ImageResult], iou_threshold=IOU_THRESHOLD) -> Scores:
             hits[k] = True
         im.best_iou[d] = candidates[j] if hits[k] else float(ious[i][d].max())
     labelled = sum(len(im.labels) for im in images)
-    tp_cum = np.cumsum(hits)
-    fp_cum = np.cumsum(~hits)
-    curve_recall = tp_cum / labelled if labelled else np.zeros(len(order))
+    # One curve point per distinct score (the last detection of each run of equal scores): a threshold
+    # cannot split equal scores, so their order (by image) must not shape the curve. Without scores
+    # (all 1.0) the curve is one point and AP = precision x recall.
+    ends = np.nonzero(np.r_[np.diff([o[0] for o in order]) != 0, True])[0] if order else np.zeros(0, int)
+    tp_cum = np.cumsum(hits)[ends]
+    fp_cum = np.cumsum(~hits)[ends]
+    curve_recall = tp_cum / labelled if labelled else np.zeros(len(ends))
     curve_precision = tp_cum / np.maximum(tp_cum + fp_cum, 1)
     tp, fp = int(hits.sum()), int((~hits).sum())
     return Scores(images=images, tp=tp, fp=fp, fn=labelled - tp, labelled=labelled,

@@ -20,7 +20,7 @@ def pr_curve(path, scores):
     if len(scores.curve_recall):
         r = np.concatenate([[0.0], scores.curve_recall])
         p = np.concatenate([[scores.curve_precision[0]], scores.curve_precision])
-        ax.plot(r, p, color="#2c7fb8", lw=1.5, label="precision at each score threshold")
+        ax.plot(r, p, ".-" if len(r) < 30 else "-", color="#2c7fb8", lw=1.5, label="precision at each score threshold")
         env = np.maximum.accumulate(p[::-1])[::-1]
         ax.step(r, env, where="pre", color="#e6550d", lw=1.0, ls="--", label="all-point interpolation")
     ax.plot([scores.recall], [scores.precision], "o", color="k",
@@ -31,8 +31,10 @@ def pr_curve(path, scores):
     ax.set_ylabel("precision")
     ax.grid(alpha=0.3)
     ax.legend(loc="upper right", fontsize=8)
-    ax.set_title("detect_cones, IoU >= %.2g: AP50 %.3f (%d images, %d labels)"
-                 % (scores.iou_threshold, scores.ap, len(scores.images), scores.labelled), fontsize=9)
+    one = " - no scores: one operating point" if len(scores.curve_recall) == 1 else ""
+    ax.set_title("detect_cones, IoU >= %.2g: AP50 %.3f (%d images, %d labels)%s"
+                 % (scores.iou_threshold, scores.ap, len(scores.images), scores.labelled,
+                    "\n" + one.lstrip(" -") if one else ""), fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -43,12 +45,12 @@ def _box(img, box, colour, thickness, scale):
     cv2.rectangle(img, (int(round(x)), int(round(y))), (int(round(x + w)), int(round(y + h))), colour, thickness)
 
 
-def _tile(im, tile_px):
-    """One image scaled to fit tile_px x tile_px with its boxes and a caption; None if unreadable."""
+def _tile(im, tile_w, tile_h):
+    """One image scaled to fit tile_w x tile_h with its boxes and a caption below; None if unreadable."""
     img = cv2.imread(im.image, cv2.IMREAD_COLOR)
     if img is None:
         return None
-    scale = tile_px / max(img.shape[:2])
+    scale = min(tile_w / img.shape[1], tile_h / img.shape[0])
     img = cv2.resize(img, (max(1, int(img.shape[1] * scale)), max(1, int(img.shape[0] * scale))),
                      interpolation=cv2.INTER_AREA)
     missed = set(im.missed())
@@ -56,18 +58,19 @@ def _tile(im, tile_px):
         _box(img, box, COLOURS["missed" if j in missed else "label"], 3, scale)
     for d, box in enumerate(im.detections):
         _box(img, box, COLOURS["tp" if im.tp[d] else "fp"], 1, scale)
-    tile = np.full((tile_px + 22, tile_px, 3), 255, np.uint8)
-    tile[:img.shape[0], :img.shape[1]] = img
-    caption = "%s  FN %d FP %d" % (im.image.rsplit("/", 1)[-1][:28], im.fn, im.fp)
-    cv2.putText(tile, caption, (3, tile_px + 15), cv2.FONT_HERSHEY_SIMPLEX, 0.4, (0, 0, 0), 1, cv2.LINE_AA)
+    tile = np.full((tile_h + 22, tile_w, 3), 255, np.uint8)
+    x0 = (tile_w - img.shape[1]) // 2
+    tile[:img.shape[0], x0:x0 + img.shape[1]] = img
+    caption = "%s labels %d FN %d FP %d" % (im.image.rsplit("/", 1)[-1][:20], len(im.labels), im.fn, im.fp)
+    cv2.putText(tile, caption, (3, img.shape[0] + 15), cv2.FONT_HERSHEY_SIMPLEX, 0.4, (0, 0, 0), 1, cv2.LINE_AA)
     return tile
 
 
-def contact_sheet(path, images, tile_px=240, columns=4):
+def contact_sheet(path, images, tile_w=300, tile_h=225, columns=4):
     """The given ImageResults in a grid with a legend bar on top; returns how many tiles were drawn."""
-    tiles = [t for t in (_tile(im, tile_px) for im in images) if t is not None]
+    tiles = [t for t in (_tile(im, tile_w, tile_h) for im in images) if t is not None]
     rows = max(1, math.ceil(len(tiles) / columns))
-    th, tw = tile_px + 22, tile_px
+    th, tw = tile_h + 22, tile_w
     sheet = np.full((30 + rows * (th + 4), columns * (tw + 4), 3), 255, np.uint8)
     x = 6
     for key, text in LEGEND:
