@@ -295,7 +295,8 @@ class AllTests(unittest.TestSuite):
     def __init__(self):
         loader = unittest.defaultTestLoader
         super().__init__([loader.loadTestsFromTestCase(QuatTest), loader.loadTestsFromTestCase(EvaluationTest),
-                          loader.loadTestsFromTestCase(VisibilityTest), loader.loadTestsFromTestCase(EvaluateBagCliTest)])
+                          loader.loadTestsFromTestCase(VisibilityTest),
+                          loader.loadTestsFromTestCase(EvaluateBagCliTest)])
 
 
 if __name__ == "__main__":

@@ -113,7 +113,7 @@ def updated_frames(frame_t, pose_t, observation_t):
     stamps = np.sort(np.concatenate([np.asarray(pose_t, float), np.asarray(observation_t, float)]))
     if len(stamps) == 0:
         return np.zeros(len(frame_t), dtype=bool)
-    i = np.clip(np.searchsorted(stamps, frame_t), 1, len(stamps) - 1) if len(stamps) > 1 else np.zeros(len(frame_t), int)
+    i = np.clip(np.searchsorted(stamps, frame_t), 0, len(stamps) - 1)  # the first stamp at or after
     near = np.minimum(np.abs(stamps[i] - frame_t), np.abs(stamps[np.maximum(i - 1, 0)] - frame_t))
     return near <= STAMP_TOLERANCE_S
 

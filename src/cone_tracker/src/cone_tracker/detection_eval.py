@@ -7,8 +7,8 @@ are matched greedily by descending score over all images (as COCO does): each on
 its image, not yet taken, with the highest IoU, a true positive when that IoU >= the threshold (0.5),
 otherwise a false positive; labels left unmatched are missed. The average precision (AP50) is
 the area under the all-point interpolated precision-recall curve (VOC 2010+), with one curve point per
-distinct score (detections without a score, all 1.0, give a single point: AP = precision x recall). No ROS: plain Python,
-numpy only (the figures are drawn by ``detection_plots``).
+distinct score (detections without a score, all 1.0, give a single point: AP = precision x recall).
+No ROS: plain Python, numpy only (the figures are drawn by ``detection_plots``).
 """
 import dataclasses
 import json
