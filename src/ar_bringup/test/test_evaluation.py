@@ -195,6 +195,21 @@ class VisibilityTest(unittest.TestCase):
         cls, _ = visibility.classify(np.array([0.5, 1.0]), frame_t, np.zeros(len(frame_t), int))
         self.assertEqual(list(cls), [4, 4])
 
+    def test_overlay_counts_cones_near_the_view_only(self):
+        # A cone just off the image edge counts; one at 80 deg off the axis (pinhole x of 3000 px) does not.
+        p, q = looking_at_cones(np.zeros(1))
+        info = camera_info()
+        near_cone = np.array([[[1.5, 0.0, 0.5], [1.5, 0.0, 0.0]]])  # pinhole x 320 + 500 * 1.5 / 5 = 470 px
+        far_cone = np.array([[[10.0, -4.0, 0.5], [10.0, -4.0, 0.0]]])
+        shift = p + [0.0, 0.0, 0.01]  # 1 cm up: every point moves 500 * 0.01 / depth px
+        ov, centre = visibility.overlay_full_res_px(near_cone, p, q, shift, q, info, full_width_px=640)
+        self.assertAlmostEqual(ov[0], 500 * 0.01 / 5.0, places=9)
+        ov, _ = visibility.overlay_full_res_px(far_cone, p, q, shift, q, info, full_width_px=640)
+        self.assertTrue(np.isnan(ov[0]))
+        both = np.concatenate([near_cone, far_cone])
+        ov, _ = visibility.overlay_full_res_px(both, p, q, shift, q, info, full_width_px=1280)
+        self.assertAlmostEqual(ov[0], 2 * 500 * 0.01 / 5.0, places=9)  # the far cone left out; x 1280 / 640
+
     def test_updated_frames(self):
         frame_t = np.arange(0.0, 1.0, 1 / 30.0)
         pose_t = frame_t[:10] + 1e-6
@@ -235,6 +250,13 @@ class VisibilityTest(unittest.TestCase):
         depth = pts[:, 1] + 5.0
         self.assertAlmostEqual(s["view_3plus_overlay_rms_px"], np.mean(500 * 0.01 / depth) * 1.6, places=9)
         self.assertTrue(np.isnan(s["view_none_over2s_overlay_rms_px"]))  # every cone behind the true camera
+        self.assertEqual(s["view_none_over2s_overlay_frames"], 0.0)
+        self.assertEqual(s["view_3plus_overlay_frames"], 50.0)
+        # At the centre of the view, at the distance of the cones' centroid, the 1 cm shows in every span.
+        centre = 500 * 0.01 / np.linalg.norm(pts.mean(axis=0) - [0.0, -5.0, 0.5]) * 1.6
+        for key in ("3plus", "none_0to1s", "none_1to2s", "none_over2s"):
+            self.assertAlmostEqual(s["view_%s_centre_median_px" % key], centre, places=9)
+            self.assertAlmostEqual(s["view_%s_centre_rms_px" % key], centre, places=9)
         self.assertEqual(set(ev.view.ekf_class[te < 4.99]), {0})
         self.assertEqual(set(ev.view.ekf_class[(te > 5.05) & (te < 5.85)]), {2})
         self.assertEqual(set(ev.view.ekf_class[te > 6.95]), {4})

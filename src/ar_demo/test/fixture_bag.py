@@ -22,6 +22,7 @@ SIGMA_POS_M = 0.005
 SIGMA_ROT_RAD = 0.004
 GATE_REJECTIONS = 2
 FX = 192.0  # 256x192, the sample bags' scaled thesis camera (roughly)
+CONES = ((0.5, 0.0, 0.7), (-0.25, 0.43, 0.7), (-0.25, -0.43, 0.7))  # x, y, height: always in view
 
 
 def truth_pose(t):
@@ -52,10 +53,28 @@ def camera_info(stamp):
     return info
 
 
+def cone_markers(stamp):
+    """rig_sim/cones as rig_sim draws it: per cone a TRIANGLE_LIST of (ring point, ring point, apex)."""
+    from geometry_msgs.msg import Point
+    from visualization_msgs.msg import Marker, MarkerArray
+    out = MarkerArray()
+    for i, (x, y, h) in enumerate(CONES):
+        m = Marker()
+        m.header.stamp, m.header.frame_id, m.ns, m.id = stamp, "cones", "cones", i
+        for k in range(12):
+            for j in (k, k + 1):
+                a = 2 * np.pi * j / 12
+                m.points.append(Point(x + 0.15 * np.cos(a), y + 0.15 * np.sin(a), 0.0))
+            m.points.append(Point(x, y, h))
+        out.markers.append(m)
+    return out
+
+
 def write(path, ekf_offset=True):
     offset_R = Rotation.from_euler("z", OFFSET_DEG if ekf_offset else 0.0, degrees=True)
     offset_p = OFFSET_M if ekf_offset else np.zeros(3)
     with rosbag.Bag(path, "w") as bag:
+        bag.write("rig_sim/cones", cone_markers(rospy.Time.from_sec(T0)), rospy.Time.from_sec(T0))
         for k in range(int(DURATION_S * 300) + 1):  # truth at 300 Hz
             t = k / 300.0
             stamp = rospy.Time.from_sec(T0 + t)

@@ -87,6 +87,21 @@ class ReportTest(unittest.TestCase):
         self.assertAlmostEqual(rates["ar_overlay/image"], 30.0, places=3)
         self.assertEqual(rates["imu/data_raw"], 0.0)  # not in the fixture
 
+    def test_errors_by_cones_in_the_true_view(self):
+        # The three cones stay in view; the tracker skips the frames of the outage (1.0-1.6 s).
+        s, _ = from_evaluation.summarize(self.bag)
+        three = s.view_figures["3plus"]
+        self.assertEqual(three["frames"], 91.0)
+        self.assertAlmostEqual(three["updated_fraction"], 74 / 91.0, places=9)
+        self.assertAlmostEqual(three["position_rms_m"], 0.010, places=6)
+        self.assertAlmostEqual(three["orientation_rms_deg"], fixture_bag.OFFSET_DEG, places=4)
+        self.assertGreater(three["overlay_median_px"], 1.0)  # 10 mm and 0.5 deg, x 1024 / 256
+        for key in ("1to2", "none_0to1s", "none_1to2s", "none_over2s"):
+            self.assertEqual(s.view_figures[key]["frames"], 0.0)
+        perfect, _ = from_evaluation.summarize(self.perfect)
+        self.assertLess(perfect.view_figures["3plus"]["overlay_rms_px"], 5e-3)  # interpolation only, x 4
+        self.assertEqual(np.count_nonzero(s.view_ekf_since_s), 0)  # always in view
+
     def test_overlay_error(self):
         perfect, _ = from_evaluation.summarize(self.perfect)
         self.assertEqual(perfect.overlay_err_px.size, 91)
@@ -102,10 +117,11 @@ class ReportTest(unittest.TestCase):
         with open(os.path.join(out, "report.md")) as f:
             text = f.read()
         for needle in ("## Figures", "pose_error.png", "overlay_error.png", "gate_rejections.png",
-                       "| EKF position RMS, cones visible | 10 | mm |", "Tracker poses: 0.00–1.00 s, 1.60–3.00 s"):
+                       "| EKF position RMS, cones visible | 10 | mm |", "Tracker poses: 0.00–1.00 s, 1.60–3.00 s",
+                       "| three or more cones in view | 91 | 81.3 | 10 |", "error_since_view.png"):
             self.assertIn(needle, text)
         for name in ("pose_error.png", "pose_error_norm.png", "overlay_error.png", "gate_rejections.png",
-                     "rates.png", "overlay_sheet.png"):
+                     "rates.png", "overlay_sheet.png", "error_since_view.png"):
             self.assertGreater(os.path.getsize(os.path.join(out, name)), 1000, name)
         video = cv2.VideoCapture(os.path.join(out, "overlay.mp4"))
         self.assertTrue(video.isOpened())

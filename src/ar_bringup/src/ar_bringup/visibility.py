@@ -6,15 +6,21 @@ view when its peak and its base are in front of the true camera (z > 0) and proj
 centre of its base ring). Every sample (an EKF pose, a frame) takes the class of the latest frame at or
 before it: ``3plus`` (three or more cones in view), ``1to2``, or, with none in view, by the time since the
 last frame with any cone in view: ``none_0to1s``, ``none_1to2s``, ``none_over2s`` (also before any cone was
-ever in view). Per class: the EKF's position RMS and median, orientation RMS, the overlay error and the
+ever in view). Per class: the EKF's position RMS and median, orientation RMS, the overlay errors and the
 share of frames that updated the filter.
 
-Overlay error here: the cones' peaks and bases projected through camera_info's K (pinhole; these points
-leave the image in an outage, where a lens model's polynomial is meaningless) with the EKF pose and with
-the true pose, the mean pixel distance over the points in front of the true camera, scaled to the
-full-resolution image: x ``full_width_px / camera_info.width``. A bag does not say what the full
-resolution was (rig_sim's ``--scale`` shrinks the image and K together), so it is a parameter, default
-1024 (rig_sim's camera). A point behind the estimated camera counts as the full-resolution diagonal.
+Overlay error here, in pixels of the full-resolution image (x ``full_width_px / camera_info.width``; a bag
+does not say what the full resolution was, rig_sim's ``--scale`` shrinks the image and K together, so it is
+a parameter, default 1024, rig_sim's camera), through camera_info's K (pinhole: near the edge of the view a
+lens model's polynomial means nothing):
+- ``overlay``: the cones' peaks and bases projected with the EKF pose and with the true pose, the mean
+  distance over the points that the true camera sees in the image or within half its size around it (the
+  rule of evaluation.overlay_errors; further out, pinhole pixels grow without bound with the angle off the
+  axis, and the figure would measure tan(), not the overlay). NaN for a frame with no such point: in a
+  long outage the cones are far out of the view.
+- ``centre``: what is drawn at the centre of the view, always defined: the point on the true optical axis at
+  the distance of the cones' centroid, projected with the EKF pose; its distance from the principal point.
+A point behind the estimated camera counts as the full-resolution diagonal.
 
 A frame "updated the filter" when the tracker published, for its stamp, a ``cone_tracker/pose`` or a
 ``cone_tracker/observations`` message with at least one cone (what pose_ekf fuses); only what was recorded
@@ -118,23 +124,39 @@ def updated_frames(frame_t, pose_t, observation_t):
     return near <= STAMP_TOLERANCE_S
 
 
-def overlay_full_res_px(cones, p_true, q_true, p_est, q_est, info, full_width_px=FULL_WIDTH_PX):
-    """Per pose pair: the mean pixel distance of the cones' peaks and bases (pinhole K) between the
-    estimated and the true camera, over the points in front of the true camera, scaled to full_width_px
-    (NaN when no point is in front; a point behind the estimated camera counts as the diagonal)."""
-    if len(p_true) == 0 or len(cones) == 0:
-        return np.full(len(p_true), np.nan)
-    K = np.reshape(info.K, (3, 3))
-    scale = float(full_width_px) / float(info.width) if full_width_px else 1.0
-    diagonal = float(np.hypot(info.width, info.height)) * scale
-    pts = cones.reshape(-1, 3)
-    c_true, c_est = to_camera(pts, p_true, q_true), to_camera(pts, p_est, q_est)
-    front_true, front_est = c_true[..., 2] > MIN_DEPTH_M, c_est[..., 2] > MIN_DEPTH_M
+def _distances(c_true, c_est, K, scale, diagonal):
+    """Full-resolution pixel distances of the pinhole projections; the diagonal where c_est is behind."""
     with np.errstate(invalid="ignore", over="ignore"):
         d = np.linalg.norm(_pinhole(c_est, K) - _pinhole(c_true, K), axis=-1) * scale
-    d = np.where(front_est & np.isfinite(d), np.minimum(d, diagonal), diagonal)
-    n = front_true.sum(axis=1)
-    return np.where(n > 0, (d * front_true).sum(axis=1) / np.maximum(n, 1), np.nan)
+    return np.where((c_est[..., 2] > MIN_DEPTH_M) & np.isfinite(d), np.minimum(d, diagonal), diagonal)
+
+
+def overlay_full_res_px(cones, p_true, q_true, p_est, q_est, info, full_width_px=FULL_WIDTH_PX):
+    """Per pose pair -> (overlay, centre), full-resolution pixels (see the module's docstring): the mean
+    distance of the cones' peaks and bases near the true view (NaN with none), and the error at the centre
+    of the view at the cones' distance."""
+    if len(p_true) == 0 or len(cones) == 0:
+        return np.full(len(p_true), np.nan), np.full(len(p_true), np.nan)
+    K = np.reshape(info.K, (3, 3))
+    w, h = float(info.width), float(info.height)
+    scale = float(full_width_px) / w if full_width_px else 1.0
+    diagonal = float(np.hypot(w, h)) * scale
+    pts = cones.reshape(-1, 3)
+    c_true, c_est = to_camera(pts, p_true, q_true), to_camera(pts, p_est, q_est)
+    px_true = _pinhole(c_true, K)
+    near = (c_true[..., 2] > MIN_DEPTH_M) & (px_true[..., 0] > -0.5 * w) & (px_true[..., 0] < 1.5 * w) & \
+        (px_true[..., 1] > -0.5 * h) & (px_true[..., 1] < 1.5 * h)
+    d = _distances(c_true, c_est, K, scale, diagonal)
+    n = near.sum(axis=1)
+    overlay = np.where(n > 0, (d * near).sum(axis=1) / np.maximum(n, 1), np.nan)
+    # The centre: the point on the true optical axis at the distance of the cones' centroid.
+    dist = np.linalg.norm(pts.mean(axis=0)[None] - np.reshape(p_true, (-1, 3)), axis=1)
+    on_axis = np.reshape(p_true, (-1, 3)) + quat.to_matrix(np.reshape(q_true, (-1, 4)))[:, :, 2] * dist[:, None]
+    c_axis_true = np.c_[np.zeros((len(dist), 2)), dist][:, None]
+    c_axis_est = np.einsum("nji,nj->ni", quat.to_matrix(np.reshape(q_est, (-1, 4))),
+                           on_axis - np.reshape(p_est, (-1, 3)))[:, None]
+    centre = _distances(c_axis_true, c_axis_est, K, scale, diagonal)[:, 0]
+    return overlay, centre
 
 
 @dataclasses.dataclass
@@ -145,7 +167,8 @@ class ViewSeries:
     frame_class: np.ndarray         # index into CLASSES
     frame_since_s: np.ndarray
     frame_updated: np.ndarray       # a tracker pose or observations for this frame
-    overlay_px: np.ndarray          # full resolution, per frame (NaN without an estimate)
+    overlay_px: np.ndarray          # full resolution, per frame (NaN without an estimate or no cone near)
+    centre_px: np.ndarray           # full resolution, per frame, at the centre of the view (NaN without an estimate)
     ekf_class: np.ndarray           # per EKF error sample
     ekf_since_s: np.ndarray
     full_width_px: float
@@ -161,10 +184,12 @@ def _median(x):
 
 
 def view_figures(frame_class, frame_updated, overlay_px, ekf_class, position_error_m, orientation_error_deg,
-                 ekf_mask=None):
+                 ekf_mask=None, centre_px=None):
     """class key -> {frames, updated_fraction, position_rms_m, position_median_m, orientation_rms_deg,
-    overlay_rms_px, overlay_median_px}: frames and updates over every frame, the overlay over the frames
-    where it is finite, the EKF errors over ekf_mask (the EKF's settling time left out)."""
+    overlay_rms_px, overlay_median_px, overlay_frames, centre_rms_px, centre_median_px}: frames and updates over
+    every frame, the overlay figures over the frames where they are finite (overlay_frames: how many), the
+    EKF errors over ekf_mask (the EKF's settling time left out)."""
+    centre_px = np.full(len(frame_class), np.nan) if centre_px is None else centre_px
     fm = np.ones(len(frame_class), bool)
     em = np.ones(len(ekf_class), bool) if ekf_mask is None else ekf_mask
     out = {}
@@ -172,6 +197,8 @@ def view_figures(frame_class, frame_updated, overlay_px, ekf_class, position_err
         f, e = fm & (frame_class == k), em & (ekf_class == k)
         ov = overlay_px[f]
         ov = ov[np.isfinite(ov)]
+        ce = centre_px[f]
+        ce = ce[np.isfinite(ce)]
         out[key] = {
             "frames": float(f.sum()),
             "updated_fraction": float(frame_updated[f].mean()) if f.any() else float("nan"),
@@ -180,6 +207,9 @@ def view_figures(frame_class, frame_updated, overlay_px, ekf_class, position_err
             "orientation_rms_deg": _rms(orientation_error_deg[e]),
             "overlay_rms_px": _rms(ov),
             "overlay_median_px": _median(ov),
+            "overlay_frames": float(len(ov)),
+            "centre_rms_px": _rms(ce),
+            "centre_median_px": _median(ce),
         }
     return out
 
@@ -196,14 +226,14 @@ def series(rec, ekf_errors, settle_t, full_width_px=FULL_WIDTH_PX, project=None)
     counts = cones_in_view(cones, p_t[ok_t], q_t[ok_t], rec.camera_info, project)
     frame_class, frame_since = classify(frame_t, frame_t, counts)
     updated = updated_frames(frame_t, rec.tracker.t, getattr(rec, "observation_t", np.zeros(0)))
-    overlay = np.full(len(frame_t), np.nan)
+    overlay, centre = np.full(len(frame_t), np.nan), np.full(len(frame_t), np.nan)
     ok_e, p_e, q_e = rec.ekf.interpolate(frame_t)
     ok_e &= frame_t >= settle_t
     if ok_e.any():
-        overlay[ok_e] = overlay_full_res_px(cones, p_t[ok_t][ok_e], q_t[ok_t][ok_e], p_e[ok_e], q_e[ok_e],
-                                            rec.camera_info, full_width_px)
+        overlay[ok_e], centre[ok_e] = overlay_full_res_px(cones, p_t[ok_t][ok_e], q_t[ok_t][ok_e], p_e[ok_e],
+                                                          q_e[ok_e], rec.camera_info, full_width_px)
     ekf_class, ekf_since = classify(ekf_errors.t, frame_t, counts)
     figs = view_figures(frame_class, updated, overlay, ekf_class, ekf_errors.position_error_m,
-                        ekf_errors.orientation_error_deg, ekf_mask=ekf_errors.t >= settle_t)
-    return ViewSeries(frame_t, counts, frame_class, frame_since, updated, overlay, ekf_class, ekf_since,
+                        ekf_errors.orientation_error_deg, ekf_mask=ekf_errors.t >= settle_t, centre_px=centre)
+    return ViewSeries(frame_t, counts, frame_class, frame_since, updated, overlay, centre, ekf_class, ekf_since,
                       float(full_width_px or rec.camera_info.width), figs)

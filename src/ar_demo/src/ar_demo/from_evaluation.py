@@ -112,6 +112,7 @@ def summarize(run_bag, truth_bag=None, name=None, full_width_px=visibility.FULL_
         summary.view_frame_t_s = ev.view.frame_t - t0
         summary.view_frame_since_s = ev.view.frame_since_s
         summary.view_overlay_px = ev.view.overlay_px
+        summary.view_centre_px = ev.view.centre_px
         if not rec.counts.get("cone_tracker/observations"):
             summary.notes.append("no cone_tracker/observations recorded: a frame counts as updating the filter "
                                  "only with a cone_tracker/pose")

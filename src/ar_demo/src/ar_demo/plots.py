@@ -147,32 +147,35 @@ def rates(path, names, measured_hz, expected_hz, title="Message rates"):
     _save(fig, path)
 
 
-def error_since_view(path, ekf_since_s, pos_err_m, rot_err_rad, frame_since_s, overlay_px, full_width_px,
+def error_since_view(path, ekf_since_s, pos_err_m, rot_err_rad, frame_since_s, overlay_px, centre_px, full_width_px,
                      title="Error against the time since a cone was last in the true view"):
     """Three panels against the seconds since the last frame with any cone in the TRUE view (0: a cone is
-    in view): the EKF's |position error| (mm) and rotation error (deg) per sample, and the overlay error of
-    the cones' peaks and bases per frame at full resolution. Samples with no cone in view yet are left out."""
+    in view): the EKF's |position error| (mm) and rotation error (deg) per sample, and per frame the overlay
+    errors at full resolution (the cones' peaks and bases near the view; the centre of the view at the cones'
+    distance). Samples with no cone in view yet are left out."""
     fig, axes = plt.subplots(3, 1, figsize=(11, 8), sharex=True)
     ekf_since_s, frame_since_s = np.asarray(ekf_since_s, float), np.asarray(frame_since_s, float)
-    series = [(ekf_since_s, np.linalg.norm(pos_err_m, axis=1) * 1e3, "|position error| [mm]", "#2c7fb8"),
-              (ekf_since_s, np.degrees(np.linalg.norm(rot_err_rad, axis=1)), "rotation error [deg]", "#2c7fb8"),
-              (frame_since_s, np.asarray(overlay_px, float), "overlay error [px at %d px wide]" % full_width_px,
-               "#8e44ad")]
+    panels = [[(ekf_since_s, np.linalg.norm(pos_err_m, axis=1) * 1e3, "#2c7fb8", "EKF")],
+              [(ekf_since_s, np.degrees(np.linalg.norm(rot_err_rad, axis=1)), "#2c7fb8", "EKF")],
+              [(frame_since_s, np.asarray(centre_px, float), "#e67e22", "centre of the view"),
+               (frame_since_s, np.asarray(overlay_px, float), "#8e44ad", "cones near the view")]]
+    labels = ["|position error| [mm]", "rotation error [deg]", "overlay error [px at %d px wide]" % full_width_px]
     finite = ekf_since_s[np.isfinite(ekf_since_s)]
     x_max = max(2.5, float(finite.max()) * 1.02) if finite.size else 2.5
-    for ax, (x, y, label, colour) in zip(axes, series):
+    for ax, series, label in zip(axes, panels, labels):
         for a, b, shade in ((0.0, 1.0, "#f4f4f4"), (1.0, 2.0, "#e6e6e6"), (2.0, x_max, "#d6d6d6")):
             ax.axvspan(a, b, color=shade, lw=0, zorder=0)
-        keep = np.isfinite(x) & np.isfinite(y)
-        ax.plot(x[keep], y[keep], ".", ms=2.5, color=colour, alpha=0.6)
-        seen = keep & (x == 0)
-        if seen.any():
-            ax.plot([0.0], [np.median(y[seen])], "_", ms=18, mew=2, color="k", label="median, cone in view")
+        values = []
+        for x, y, colour, name in series:
+            keep = np.isfinite(x) & np.isfinite(y)
+            ax.plot(x[keep], y[keep], ".", ms=2.5, color=colour, alpha=0.6, label=name)
+            values.append(y[keep])
+        values = np.concatenate(values)
         ax.set_ylabel(label, fontsize=9)
         ax.grid(alpha=0.3)
-        if keep.any() and np.nanmax(y[keep]) > 50 * max(np.nanpercentile(y[keep], 10), 1e-3):
+        if values.size and values.max() > 50 * max(np.percentile(values, 10), 1e-3):
             ax.set_yscale("log")  # metres of drift in an outage would flatten the rest
-    axes[0].legend(loc="upper left", fontsize=8)
+        ax.legend(loc="upper left", fontsize=8, markerscale=3)
     axes[-1].set_xlim(-0.05, x_max)
     axes[-1].set_xlabel("seconds since any cone was last in the true camera view (bands: 0-1, 1-2, > 2 s)")
     fig.suptitle(title)

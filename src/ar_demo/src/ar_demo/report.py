@@ -45,9 +45,10 @@ def draw_plots(summary, out_dir):
     if summary.view_figures is not None and ekf is not None and len(ekf):
         plots.error_since_view(os.path.join(out_dir, "error_since_view.png"), summary.view_ekf_since_s,
                                ekf.pos_err_m, ekf.rot_err_rad, summary.view_frame_since_s, summary.view_overlay_px,
-                               summary.view_full_width_px)
+                               summary.view_centre_px, summary.view_full_width_px)
         drawn.append(("error_since_view.png", "error against the time since any cone was last in the true "
-                      "camera view (0: in view); the overlay error of the cones' peaks and bases at full resolution"))
+                      "camera view (0: in view); the overlay errors at full resolution: the cones' peaks and "
+                      "bases near the view, and the centre of the view at the cones' distance"))
     plots.gate_rejections(os.path.join(out_dir, "gate_rejections.png"), summary.gates,
                           summary.duration_s, summary.visible)
     drawn.append(("gate_rejections.png", "measurements rejected by each gate, cumulative"))
@@ -60,8 +61,11 @@ def draw_plots(summary, out_dir):
 
 VIEW_COLUMNS = (("frames", "frames", 1.0), ("updated_fraction", "frames that updated the filter [%]", 100.0),
                 ("position_rms_m", "position RMS [mm]", 1e3), ("position_median_m", "position median [mm]", 1e3),
-                ("orientation_rms_deg", "orientation RMS [deg]", 1.0), ("overlay_rms_px", "overlay RMS [px]", 1.0),
-                ("overlay_median_px", "overlay median [px]", 1.0))
+                ("orientation_rms_deg", "orientation RMS [deg]", 1.0),
+                ("overlay_frames", "frames with a cones' overlay figure", 1.0),
+                ("overlay_rms_px", "cones' overlay RMS [px]", 1.0),
+                ("overlay_median_px", "cones' overlay median [px]", 1.0),
+                ("centre_rms_px", "centre RMS [px]", 1.0), ("centre_median_px", "centre median [px]", 1.0))
 
 
 def view_table(summary):
@@ -71,10 +75,13 @@ def view_table(summary):
     from ar_bringup.visibility import CLASSES
     lines = ["What a user sees: the errors split by the cones in the *true* camera view (a cone is in view when "
              "its peak and base project inside the image under the true pose); with none in view, by the time "
-             "since one last was. Overlay: the cones' peaks and bases drawn at the EKF pose against the true "
-             "pose (camera_info's K), at the full resolution of %d px wide. A frame updated the filter when the "
-             "tracker published a `cone_tracker/pose` or a non-empty `cone_tracker/observations` for it. "
-             "Errors skip the EKF's first second." % summary.view_full_width_px, "",
+             "since one last was. In pixels of the full-resolution image (%d px wide), through camera_info's K: "
+             "the cones' overlay is their peaks and bases drawn at the EKF pose against the true pose, over the "
+             "points in the image or within half its size around it (none in a long outage: n/a); the centre is "
+             "the point at the centre of the true view at the cones' distance, drawn at the EKF pose. A frame "
+             "updated the filter when the tracker published a `cone_tracker/pose` or a non-empty "
+             "`cone_tracker/observations` for it. Errors skip the EKF's first second." % summary.view_full_width_px,
+             "",
              "| cones in the true view | " + " | ".join(c[1] for c in VIEW_COLUMNS) + " |",
              "|---|" + "---:|" * len(VIEW_COLUMNS)]
     for key, label in CLASSES:

@@ -48,6 +48,7 @@ class RunSummary:
         self.view_frame_t_s = np.zeros(0)  # per camera frame: time, seconds since a cone was in view,
         self.view_frame_since_s = np.zeros(0)  # and the full-resolution overlay error of the cones
         self.view_overlay_px = np.zeros(0)
+        self.view_centre_px = np.zeros(0)  # per camera frame: the overlay error at the centre of the view
 
 
 def in_periods(t_s, periods):
