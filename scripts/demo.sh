@@ -94,6 +94,12 @@ if [[ "${DEMO_OUTAGE:-1}" == 1 ]]; then
     sed -n '/^## Figures/,/^## Plots/p' "$dir/report.md" | sed '1,2d;$d'
     echo "![pose error](look_away/pose_error_norm.png)"
     echo
+    if [[ -f "$dir/error_since_view.png" ]]; then
+      echo "Error against the time since any cone was last in the true camera view (what a user sees):"
+      echo
+      echo "![error since a cone was in view](look_away/error_since_view.png)"
+      echo
+    fi
   } >> "$REPORT"
 fi
 
@@ -124,7 +130,7 @@ fi
 echo
 echo "demo: the results are in $OUT/"
 for f in report.md overlay.mp4 overlay_frames overlay_sheet.png rviz.png pose_error.png \
-         pose_error_norm.png overlay_error.png gate_rejections.png rates.png demo_run.bag \
-         look_away/report.md look_away/overlay.mp4; do
+         pose_error_norm.png overlay_error.png error_since_view.png gate_rejections.png rates.png demo_run.bag \
+         look_away/report.md look_away/overlay.mp4 look_away/error_since_view.png; do
   if [[ -e "$OUT/$f" ]]; then echo "  $OUT/$f"; fi
 done
