@@ -18,8 +18,11 @@ namespace {
 using pose_math::Quat;
 
 // R(q)ᵀ v for the general R of (2.36) (Rᵀ(q) = R(q*)) and its derivative w.r.t. q.
+// (pose_math::Rotate normalises q; the EKF's h must not, for H to be its exact derivative.)
 Eigen::Vector3d RotateInverse(const Quat& q, const Eigen::Vector3d& v) {
-  return pose_math::Rotate(pose_math::Conjugate(q), v);
+  const double q0 = q[0];
+  const Eigen::Vector3d qv = -q.tail<3>();
+  return (q0 * q0 - qv.squaredNorm()) * v + 2.0 * qv.dot(v) * qv + 2.0 * q0 * qv.cross(v);
 }
 
 Eigen::Matrix<double, 3, 4> RotateInverseJacobian(const Quat& q, const Eigen::Vector3d& v) {
