@@ -80,6 +80,7 @@ AddResult MeasurementBuffer::AddCones(const ConeFrame& f) {
     ++counters_.cone_frames_not_used;
     return AddResult::kNotUsed;
   }
+  cones_seen_ = true;
   Entry e;
   e.stamp_s = f.stamp_s;
   e.is_camera = e.is_cones = true;
@@ -96,7 +97,9 @@ double MeasurementBuffer::PositionSigmaM() const {
 
 bool MeasurementBuffer::ReacquireDue() const {
   if (config_.camera_update != CameraUpdate::kCones || !ekf_.initialized()) return false;
-  return reacquire_pending_ || (config_.reacquire_sigma_p_m > 0.0 && PositionSigmaM() > config_.reacquire_sigma_p_m);
+  // The sigma test only once cone observations arrive: a stream of poses alone is fused as before.
+  return reacquire_pending_ ||
+         (cones_seen_ && config_.reacquire_sigma_p_m > 0.0 && PositionSigmaM() > config_.reacquire_sigma_p_m);
 }
 
 // A pose and cone observations of one image carry the same information: the pose is not fused
@@ -133,7 +136,7 @@ void MeasurementBuffer::Reset() {
   ekf_.Reset();
   last_camera_stamp_s_ = last_imu_stamp_s_ = -1e300;
   camera_gated_in_a_row_ = 0;
-  reacquire_pending_ = false;
+  reacquire_pending_ = cones_seen_ = false;
   last_pose_init_stamp_s_ = -1e300;
   ++counters_.resets;
 }

@@ -82,7 +82,8 @@ class MeasurementBuffer {
   // Gated camera poses since the last fused one (reset by a re-initialisation).
   int camera_gated_in_a_row() const { return camera_gated_in_a_row_; }
   // Cones mode: the next camera pose re-initialises the filter (after reinit_after_rejections
-  // rejected cone frames in a row, or with the position sigma above reacquire_sigma_p_m).
+  // rejected cone frames in a row, or, once cone frames arrive, with the position sigma above
+  // reacquire_sigma_p_m).
   bool ReacquireDue() const;
   double PositionSigmaM() const;  // the largest standard deviation of the position (0 uninitialised)
   const ConeFrameResult& last_cone_frame() const { return last_cone_frame_; }
@@ -122,6 +123,7 @@ class MeasurementBuffer {
   bool reset_warning_ = false;
   int camera_gated_in_a_row_ = 0;           // counted when first applied, in arrival order
   bool reacquire_pending_ = false;          // cones mode: reinit_after_rejections cone frames rejected in a row
+  bool cones_seen_ = false;                 // a cone frame was added since the last reset
   double last_pose_init_stamp_s_ = -1e300;  // the pose the filter last (re-)initialised from
   ConeFrameResult last_cone_frame_;
 };
