@@ -73,7 +73,12 @@ TEST(NodeConfig, TheTableHasEveryParameterTheLoaderRead) {
                                        "init_sigma_p_m",
                                        "max_delay_s",
                                        "time_jump_reset_s",
-                                       "max_predict_step_s"};
+                                       "max_predict_step_s",
+                                       "camera_update",
+                                       "cone_gate_probability",
+                                       "cone_joint_probability",
+                                       "reacquire_sigma_p_m",
+                                       "layout_file"};
   std::sort(names.begin(), names.end());
   std::sort(expected.begin(), expected.end());
   EXPECT_EQ(names, expected);
@@ -185,6 +190,7 @@ TEST(NodeConfig, ReconfigureRoundTripIsTheIdentity) {
   c.ekf.use_gyro = false;
   c.use_accel = false;
   c.ekf.joseph_update = true;
+  c.camera_update = static_cast<int>(pose_ekf::CameraUpdate::kPose);
   const pose_ekf::PoseEkfConfig cfg =
       rig_model::ToReconfigure<NodeConfig, pose_ekf::PoseEkfConfig>(pose_ekf::Params(), c);
   EXPECT_EQ(cfg.sigma_gyro_rad_s, 0.02);
@@ -203,9 +209,10 @@ TEST(NodeConfig, ReconfigureRoundTripIsTheIdentity) {
   for (const std::string& name : names) {
     EXPECT_EQ(pose_ekf::Params().Get(back, name), pose_ekf::Params().Get(c, name)) << name;
   }
-  EXPECT_EQ(names.size(), 15u);  // PoseEkf.cfg's parameters
+  EXPECT_EQ(names.size(), 16u);  // PoseEkf.cfg's parameters
   pose_ekf::ApplyModes(&back);
   EXPECT_EQ(back.ekf.accel_mode, AccelMode::kOff);
+  EXPECT_EQ(back.ekf.camera_update, pose_ekf::CameraUpdate::kPose);
 
   NodeConfig same = c;  // onto the config it came from: nothing changes
   rig_model::FromReconfigure(pose_ekf::Params(), cfg, &same);

@@ -246,6 +246,17 @@ Eigen::Vector3d Layout::ConeCentroid() const {
   return cones.empty() ? c : Eigen::Vector3d(c / static_cast<double>(cones.size()));
 }
 
+std::array<Eigen::Vector3d, 3> CorrectedModelPoints(const Eigen::Vector3d& base_m, double height_m, double tau,
+                                                    const Eigen::Vector3d& eye) {
+  Eigen::Vector3d toward = eye - base_m;
+  toward.z() = 0.0;  // COP' in the base plane (3.16)
+  const double n = toward.norm();
+  toward = n > 1e-9 ? Eigen::Vector3d(toward / n) : Eigen::Vector3d::Zero();  // (3.17)
+  const double r = tau * height_m;                                            // (3.13)
+  const Eigen::Vector3d up(0, 0, height_m);
+  return {base_m + up, base_m + 0.5 * up + 0.5 * r * toward, base_m + r * toward};  // (3.18)
+}
+
 ConeSpec MakeCone(const Eigen::Vector3d& base_m, double height_m, ConeStyle style) {
   ConeSpec c;
   c.base_m = base_m;

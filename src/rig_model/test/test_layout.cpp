@@ -42,6 +42,16 @@ TEST(Layout, EveryShippedLayoutLoads) {
   }
 }
 
+TEST(Layout, CorrectedModelPointsFaceTheCamera) {
+  const auto p = CorrectedModelPoints(Eigen::Vector3d(1, 0, 0), 0.7, 1.0 / 7.0, Eigen::Vector3d(5, 0, 1.5));
+  EXPECT_TRUE(p[0].isApprox(Eigen::Vector3d(1, 0, 0.7)));
+  EXPECT_TRUE(p[1].isApprox(Eigen::Vector3d(1.05, 0, 0.35)));
+  EXPECT_TRUE(p[2].isApprox(Eigen::Vector3d(1.1, 0, 0)));
+  // A camera straight above the axis: no side faces it, the points stay on the axis.
+  const auto q = CorrectedModelPoints(Eigen::Vector3d(1, 0, 0), 0.7, 1.0 / 7.0, Eigen::Vector3d(1, 0, 3));
+  EXPECT_TRUE(q[2].isApprox(Eigen::Vector3d(1, 0, 0)));
+}
+
 TEST(Layout, DefaultFileIsTheThesisTriangle) {
   const Layout file = LoadLayoutFile(RIG_MODEL_LAYOUTS_DIR "/default.yaml");
   const Layout built = DefaultLayout();

@@ -9,6 +9,7 @@
 #include <boost/math/distributions/chi_squared.hpp>
 
 #include "pose_math/rotation.h"
+#include "rig_model/layout.h"
 
 namespace cone_tracker {
 
@@ -111,13 +112,7 @@ PnpResult Solve(const std::vector<ConeDetection>& dets, const std::vector<ConeMo
 }  // namespace
 
 std::array<Eigen::Vector3d, 3> CorrectedModelPoints(const ConeModel& cone, const Eigen::Vector3d& eye) {
-  Eigen::Vector3d toward = eye - cone.base_m;
-  toward.z() = 0.0;  // COP' in the base plane (3.16)
-  const double n = toward.norm();
-  toward = n > 1e-9 ? Eigen::Vector3d(toward / n) : Eigen::Vector3d::Zero();  // (3.17)
-  const double r = cone.tau * cone.height_m;                                  // (3.13)
-  const Eigen::Vector3d up(0, 0, cone.height_m);
-  return {cone.base_m + up, cone.base_m + 0.5 * up + 0.5 * r * toward, cone.base_m + r * toward};  // (3.18)
+  return rig_model::CorrectedModelPoints(cone.base_m, cone.height_m, cone.tau, eye);  // (3.18), shared with pose_ekf
 }
 
 bool LayoutHasRotationalSymmetry(const std::vector<ConeModel>& cones) {

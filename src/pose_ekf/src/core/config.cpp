@@ -42,6 +42,13 @@ std::string EkfConfig::Validate() const {
   if (reinit_after_rejections < 0) {
     err << "reinit_after_rejections must be >= 0, 0 never re-initialises (got " << reinit_after_rejections << "); ";
   }
+  if (!(cone_gate_probability > 0.0 && cone_gate_probability <= 1.0)) {
+    err << "cone_gate_probability must be in (0, 1], 1 disables the gate (got " << cone_gate_probability << "); ";
+  }
+  if (!(cone_joint_probability > 0.0 && cone_joint_probability <= 1.0)) {
+    err << "cone_joint_probability must be in (0, 1], 1 disables the check (got " << cone_joint_probability << "); ";
+  }
+  Check(err, "reacquire_sigma_p_m", reacquire_sigma_p_m, 0.0, true);
   std::string problems = err.str();
   if (!problems.empty()) problems.resize(problems.size() - 2);  // every problem ends with "; "
   return problems;

@@ -66,6 +66,7 @@ void EkfCore::SetConfig(const EkfConfig& config) {
   config_ = config;
   camera_gate_chi2_ =
       config_.camera_gate_chi2 > 0.0 ? config_.camera_gate_chi2 : std::numeric_limits<double>::infinity();
+  SetConeGates();
   if (initialized_ && StateSize(config_) != s_.x.size()) {
     config_.estimate_gyro_bias = s_.x.size() > kBaseStates;  // takes effect at the next Initialize()
   }
@@ -169,6 +170,9 @@ UpdateResult EkfCore::Update(const Eigen::Matrix<double, M, 1>& residual,
   s_.P = P;
   return UpdateResult::kApplied;
 }
+
+// The per-cone update (cone_update.cpp) uses the same update.
+template UpdateResult EkfCore::Update<kConeDof>(const ConeVector&, const ConeJacobian&, const ConeMatrix&, double*);
 
 UpdateResult EkfCore::UpdateCamera(const CameraMeasurement& m, double* nis, double* gate_chi2) {
   if (!config_.use_camera) return UpdateResult::kDisabled;

@@ -1,5 +1,6 @@
 #include "pose_ekf/core/measurement_buffer.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
@@ -36,6 +37,10 @@ const char* ToString(AddResult r) {
       return "rejected (chi2 gate)";
     case AddResult::kReinitialized:
       return "re-initialised (chi2 gate)";
+    case AddResult::kSuperseded:
+      return "superseded (the same image was fused once)";
+    case AddResult::kNotUsed:
+      return "not used (camera_update)";
   }
   return "?";
 }
@@ -50,6 +55,7 @@ void MeasurementBuffer::SetConfig(const EkfConfig& config) {
 bool MeasurementBuffer::Before(const Entry& a, const Entry& b) {
   if (a.stamp_s != b.stamp_s) return a.stamp_s < b.stamp_s;
   if (a.is_camera != b.is_camera) return a.is_camera;  // equal stamps: camera first, deterministically
+  if (a.is_cones != b.is_cones) return a.is_cones;     // an image's cones before its pose (superseding)
   return a.seq < b.seq;
 }
 
@@ -63,6 +69,55 @@ AddResult MeasurementBuffer::AddCamera(const CameraMeasurement& m) {
   e.is_camera = true;
   e.camera = m;
   return Add(std::move(e));
+}
+
+AddResult MeasurementBuffer::AddCones(const ConeFrame& f) {
+  if (!CheckConeFrame(f).empty()) {
+    ++counters_.nan_rejected;
+    return AddResult::kRejectedNonFinite;
+  }
+  if (config_.camera_update != CameraUpdate::kCones || !config_.use_camera || f.cones.empty()) {
+    ++counters_.cone_frames_not_used;
+    return AddResult::kNotUsed;
+  }
+  cones_seen_ = true;
+  Entry e;
+  e.stamp_s = f.stamp_s;
+  e.is_camera = e.is_cones = true;
+  e.cones = f;
+  return Add(std::move(e));
+}
+
+double MeasurementBuffer::PositionSigmaM() const {
+  if (!ekf_.initialized()) return 0.0;
+  const Eigen::Matrix3d P = ekf_.state().P.block<3, 3>(kP, kP);
+  return std::sqrt(std::max(
+      0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(P, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff()));
+}
+
+bool MeasurementBuffer::ReacquireDue() const {
+  if (config_.camera_update != CameraUpdate::kCones || !ekf_.initialized()) return false;
+  // The sigma test only once cone observations arrive: a stream of poses alone is fused as before.
+  return reacquire_pending_ ||
+         (cones_seen_ && config_.reacquire_sigma_p_m > 0.0 && PositionSigmaM() > config_.reacquire_sigma_p_m);
+}
+
+// A pose and cone observations of one image carry the same information: the pose is not fused
+// when the cones (which sort just before it) are in the history.
+void MeasurementBuffer::MarkSuperseded(size_t i) {
+  const Entry& e = history_[i];
+  if (!e.is_camera || config_.camera_update != CameraUpdate::kCones) return;
+  if (e.is_cones) {
+    for (size_t j = i + 1; j < history_.size() && history_[j].stamp_s == e.stamp_s; ++j) {
+      if (history_[j].is_camera && !history_[j].is_cones && !history_[j].superseded) {
+        history_[j].superseded = true;
+        ++counters_.poses_superseded;
+      }
+    }
+  } else if (i > 0 && history_[i - 1].is_cones && history_[i - 1].stamp_s == e.stamp_s) {
+    history_[i].superseded = true;
+    ++counters_.poses_superseded;
+  }
 }
 
 AddResult MeasurementBuffer::AddImu(const ImuMeasurement& m) {
@@ -81,6 +136,8 @@ void MeasurementBuffer::Reset() {
   ekf_.Reset();
   last_camera_stamp_s_ = last_imu_stamp_s_ = -1e300;
   camera_gated_in_a_row_ = 0;
+  reacquire_pending_ = cones_seen_ = false;
+  last_pose_init_stamp_s_ = -1e300;
   ++counters_.resets;
 }
 
@@ -111,6 +168,14 @@ AddResult MeasurementBuffer::Add(Entry e) {
     ++counters_.dropped_late;
     return AddResult::kDroppedLate;
   }
+  if (!ekf_.initialized() && e.is_cones) {
+    ++counters_.cone_frames_before_start;  // a pose starts the filter
+    return AddResult::kWaitingForCamera;
+  }
+  if (e.is_cones && e.stamp_s == last_pose_init_stamp_s_) {
+    ++counters_.cone_frames_superseded;  // this image's pose (re-)initialised the filter
+    return AddResult::kSuperseded;
+  }
   if (!ekf_.initialized()) {
     if (e.is_camera && config_.use_camera) return InitializeFrom(e);
     if (!e.is_camera && config_.init_from_gravity && e.imu.has_accel &&
@@ -129,7 +194,13 @@ AddResult MeasurementBuffer::Add(Entry e) {
   const auto pos = std::upper_bound(history_.begin(), history_.end(), e, Before);
   const bool at_end = pos == history_.end();
   size_t i = static_cast<size_t>(pos - history_.begin());
+  const bool reacquire = e.is_camera && !e.is_cones && config_.use_camera && ReacquireDue();
   history_.insert(pos, std::move(e));
+  if (reacquire) {
+    ++counters_.reacquisitions;
+    return ReinitializeFrom(i);
+  }
+  MarkSuperseded(i);
   if (!at_end) {
     ekf_.Restore(i == 0 ? base_ : history_[i - 1].after);
     ++counters_.replays;
@@ -140,15 +211,22 @@ AddResult MeasurementBuffer::Add(Entry e) {
     if (j == i) camera = r;
     history_[j].after = ekf_.state();
   }
-  if (camera == UpdateResult::kApplied) camera_gated_in_a_row_ = 0;
-  if (camera == UpdateResult::kGated) {
+  if (camera == UpdateResult::kApplied) camera_gated_in_a_row_ = 0, reacquire_pending_ = false;
+  if (camera == UpdateResult::kGated && history_[i].is_cones) {
+    // Cone observations cannot initialise the filter: the next pose will (Add, ReacquireDue).
+    ++camera_gated_in_a_row_;
+    reacquire_pending_ |=
+        config_.reinit_after_rejections > 0 && camera_gated_in_a_row_ >= config_.reinit_after_rejections;
+  } else if (camera == UpdateResult::kGated) {
     ++camera_gated_in_a_row_;
     if (config_.reinit_after_rejections > 0 && camera_gated_in_a_row_ >= config_.reinit_after_rejections) {
       return ReinitializeFrom(i);
     }
   }
+  const bool superseded = history_[i].superseded;
   Trim();
   if (camera == UpdateResult::kGated) return AddResult::kGated;
+  if (superseded) return AddResult::kSuperseded;
   return at_end ? AddResult::kApplied : AddResult::kReplayed;
 }
 
@@ -168,6 +246,8 @@ AddResult MeasurementBuffer::ReinitializeFrom(size_t i) {
     e.after = ekf_.state();
   }
   camera_gated_in_a_row_ = 0;
+  reacquire_pending_ = false;
+  last_pose_init_stamp_s_ = camera.stamp_s;
   ++counters_.reinits;
   Trim();
   return AddResult::kReinitialized;
@@ -190,6 +270,7 @@ AddResult MeasurementBuffer::InitializeFrom(const Entry& camera) {
   }
   ++counters_.camera_applied;
   camera_gated_in_a_row_ = 0;
+  last_pose_init_stamp_s_ = camera.stamp_s;
   base_ = ekf_.state();
   // IMU samples that arrived before the (late) first camera pose and are newer than it are kept.
   while (!history_.empty() && history_.front().stamp_s < camera.stamp_s) {
@@ -220,6 +301,13 @@ UpdateResult MeasurementBuffer::Apply(Entry& e, bool count) {
     if (r == UpdateResult::kRejectedNonFinite) ++counters_.nan_rejected;
     if (r == UpdateResult::kNumericalFailure) ++counters_.numerical_failures;
   };
+  if (e.is_cones) {
+    ConeFrameResult res;
+    const UpdateResult r = ekf_.UpdateCones(e.cones, &res);
+    if (count) TallyCones(r, res);
+    return r;
+  }
+  if (e.superseded) return UpdateResult::kDisabled;  // its image's cones were fused
   if (e.is_camera) {
     double nis = 0.0, gate_chi2 = 0.0;
     const UpdateResult r = ekf_.UpdateCamera(e.camera, &nis, &gate_chi2);
@@ -239,6 +327,27 @@ UpdateResult MeasurementBuffer::Apply(Entry& e, bool count) {
   tally(gyro_first ? gyro : ekf_.UpdateGyro(e.imu), &counters_.gyro_applied);
   tally(ekf_.UpdateAccel(e.imu), &counters_.accel_applied);
   return UpdateResult::kDisabled;
+}
+
+void MeasurementBuffer::TallyCones(UpdateResult r, const ConeFrameResult& res) {
+  last_cone_frame_ = res;
+  counters_.cones_applied += static_cast<uint64_t>(res.fused);
+  counters_.cones_gated += static_cast<uint64_t>(res.gated);
+  counters_.cones_joint_dropped += static_cast<uint64_t>(res.joint_dropped);
+  counters_.cones_behind_camera += static_cast<uint64_t>(res.behind_camera);
+  if (res.gated + res.joint_dropped + res.behind_camera > 0) counters_.cone_last_rejected_chi2 = res.worst_gate_chi2;
+  if (r == UpdateResult::kApplied) {
+    ++counters_.cone_frames_applied;
+    ++counters_.cone_nis_count;
+    counters_.cone_nis_sum += res.nis;
+    counters_.cone_nis_last = res.nis;
+  } else if (r == UpdateResult::kGated) {
+    ++counters_.cone_frames_rejected;
+  } else if (r == UpdateResult::kNumericalFailure) {
+    ++counters_.numerical_failures;
+  } else if (r == UpdateResult::kRejectedNonFinite) {
+    ++counters_.nan_rejected;
+  }
 }
 
 // Keeps what a measurement up to max_delay_s late needs: the entries inside the

@@ -5,6 +5,7 @@
 
 #include <stdexcept>
 
+#include "rig_model/layout.h"
 #include "rig_model/ros/param_table_ros.h"
 #include "rig_model/strict_yaml.h"
 
@@ -80,6 +81,13 @@ const Table& Params() {
       .Add("accel_gate_m_s2", [](NodeConfig& c) -> double& { return c.ekf.accel_gate_m_s2; })
       .Add("camera_gate_chi2", [](NodeConfig& c) -> double& { return c.ekf.camera_gate_chi2; })
       .Add("reinit_after_rejections", [](NodeConfig& c) -> int& { return c.ekf.reinit_after_rejections; })
+      // Tightly coupled camera updates from cone_tracker/observations (cone_measurement.h).
+      .AddEnum("camera_update", [](NodeConfig& c) -> int& { return c.camera_update; },
+               {"cones", "pose"})  // CameraUpdate's order
+      .Add("cone_gate_probability", [](NodeConfig& c) -> double& { return c.ekf.cone_gate_probability; })
+      .Add("cone_joint_probability", [](NodeConfig& c) -> double& { return c.ekf.cone_joint_probability; })
+      .Add("reacquire_sigma_p_m", [](NodeConfig& c) -> double& { return c.ekf.reacquire_sigma_p_m; })
+      .Add("layout_file", [](NodeConfig& c) -> std::string& { return c.layout_file; })
       // Options beyond the thesis, initial uncertainty and the measurement buffer (section 6.3).
       .Add("estimate_gyro_bias", [](NodeConfig& c) -> bool& { return c.ekf.estimate_gyro_bias; })
       .Add("joseph_update", [](NodeConfig& c) -> bool& { return c.ekf.joseph_update; })
@@ -103,6 +111,7 @@ std::vector<std::string> ParamNames() { return Params().Names(); }
 void ApplyModes(NodeConfig* c) {
   c->ekf.accel_mode = c->use_accel ? static_cast<AccelMode>(c->accel_mode) : AccelMode::kOff;
   c->ekf.quat_integration = static_cast<QuatIntegration>(c->quat_integration);
+  c->ekf.camera_update = static_cast<CameraUpdate>(c->camera_update);
 }
 
 void ValidateConfig(NodeConfig* config) {
@@ -139,6 +148,7 @@ NodeConfig LoadConfig(const ros::NodeHandle& private_nh) {
     NodeConfig c;
     rig_model::LoadParams(private_nh, Params(), &c);
     ValidateConfig(&c);
+    LoadLayout(&c);
     return c;
   } catch (const std::invalid_argument& e) {
     if (file.empty()) throw;
@@ -154,7 +164,18 @@ NodeConfig LoadConfigFile(const std::string& yaml_path) {
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(yaml_path + ": " + e.what());
   }
+  LoadLayout(&c);
   return c;
+}
+
+void LoadLayout(NodeConfig* config) {
+  config->layout_cones.clear();
+  if (config->layout_file.empty()) return;
+  try {
+    config->layout_cones = ConeGeometries(rig_model::LoadLayoutFile(config->layout_file));  // the one parser
+  } catch (const rig_model::FileError& e) {
+    throw std::invalid_argument(std::string("layout_file: ") + e.what());
+  }
 }
 
 }  // namespace pose_ekf

@@ -87,6 +87,73 @@ ConversionResult ImuFromMsg(const sensor_msgs::Imu& msg, const Eigen::Quaternion
   return ConversionResult::kOk;  // non-finite values are caught and counted by the buffer
 }
 
+ConversionResult ConeFrameFromMsg(const cone_tracker::ConeObservations& msg, const std::string& camera_frame,
+                                  const std::vector<ConeGeometry>& layout, ConeFrame* out, std::string* why,
+                                  int* cones_nan, int* cones_invalid) {
+  const std::string topic = kObservationsTopic;
+  *cones_nan = *cones_invalid = 0;
+  if (msg.header.frame_id != camera_frame) {
+    *why = topic + ": header.frame_id is '" + msg.header.frame_id + "', expected '" + camera_frame + "'";
+    return ConversionResult::kInvalid;
+  }
+  if (layout.empty()) {
+    *why = topic + ": no cone layout (~layout_file is not set): the observations cannot be used";
+    return ConversionResult::kInvalid;
+  }
+  out->stamp_s = msg.header.stamp.toSec();
+  out->K = {msg.fx, msg.fy, msg.cx, msg.cy};
+  const bool finite_k =
+      std::isfinite(msg.fx) && std::isfinite(msg.fy) && std::isfinite(msg.cx) && std::isfinite(msg.cy);
+  if (!finite_k || !(msg.fx > 0.0) || !(msg.fy > 0.0)) {
+    std::ostringstream s;
+    s << topic << ": intrinsics fx " << msg.fx << ", fy " << msg.fy << ", cx " << msg.cx << ", cy " << msg.cy
+      << ": fx and fy must be positive, all finite";
+    *why = s.str();
+    return finite_k ? ConversionResult::kInvalid : ConversionResult::kNonFinite;
+  }
+  out->cones.clear();
+  static const char* const kPoints[kConePoints] = {"peak", "mid", "base"};
+  for (size_t i = 0; i < msg.cones.size(); ++i) {
+    const cone_tracker::ConeObservation& m = msg.cones[i];
+    const std::string at = topic + ": cones[" + std::to_string(i) + "] (cone_id " + std::to_string(m.cone_id) + ")";
+    if (m.cone_id < 0 || m.cone_id >= static_cast<int>(layout.size())) {
+      if (why->empty()) *why = at + ": cone_id is not in the layout (" + std::to_string(layout.size()) + " cones)";
+      ++*cones_invalid;
+      continue;
+    }
+    ConeObservation o;
+    o.cone_id = m.cone_id;
+    o.cone = layout[static_cast<size_t>(m.cone_id)];
+    const boost::array<double, 2>* px[kConePoints] = {&m.peak_px, &m.mid_px, &m.base_px};
+    const boost::array<double, 4>* cov[kConePoints] = {&m.peak_cov_px2, &m.mid_cov_px2, &m.base_cov_px2};
+    std::string problem;
+    bool non_finite = false;
+    for (int k = 0; k < kConePoints && problem.empty(); ++k) {
+      o.px[k] = Eigen::Vector2d((*px[k])[0], (*px[k])[1]);
+      o.cov_px2[k] = ToMatrix<2>(*cov[k]);
+      if (!o.px[k].allFinite() || !o.cov_px2[k].allFinite()) {
+        non_finite = true;
+        problem = std::string(kPoints[k]) + (o.px[k].allFinite() ? "_cov_px2" : "_px") + " is not finite";
+      }
+    }
+    if (problem.empty()) {
+      ConeFrame one;
+      one.stamp_s = out->stamp_s;
+      one.K = out->K;
+      one.cones.push_back(o);
+      const std::string err = CheckConeFrame(one);  // the covariances
+      if (!err.empty()) problem = err.substr(err.find('.') + 1);
+    }
+    if (!problem.empty()) {
+      if (why->empty()) *why = at + ": " + problem;
+      ++*(non_finite ? cones_nan : cones_invalid);
+      continue;
+    }
+    out->cones.push_back(o);
+  }
+  return ConversionResult::kOk;
+}
+
 PoseEkfAdapter::PoseEkfAdapter(const NodeConfig& config) : config_(config), buffer_(config.ekf) {}
 
 void PoseEkfAdapter::Reconfigure(const EkfConfig& ekf) {
@@ -143,6 +210,37 @@ AddResult PoseEkfAdapter::HandleImu(const sensor_msgs::Imu& msg, const Eigen::Qu
   const AddResult r = buffer_.AddImu(m);
   if (r == AddResult::kRejectedNonFinite) *why = "IMU sample not finite";
   if (r == AddResult::kDroppedLate) *why = "IMU sample older than max_delay_s";
+  return r;
+}
+
+AddResult PoseEkfAdapter::HandleObservations(const cone_tracker::ConeObservations& msg, std::string* why) {
+  ConeFrame f;
+  int nan = 0, invalid = 0;
+  const ConversionResult c = ConeFrameFromMsg(msg, config_.camera_frame, config_.layout_cones, &f, why, &nan, &invalid);
+  if (c != ConversionResult::kOk) {
+    ++observations_rejected_;
+    return Count(c);
+  }
+  cones_refused_nan_ += static_cast<uint64_t>(nan);
+  cones_refused_invalid_ += static_cast<uint64_t>(invalid);
+  nan_rejected_ += static_cast<uint64_t>(nan);
+  invalid_rejected_ += static_cast<uint64_t>(invalid);
+  if (f.cones.empty() && nan + invalid > 0) {
+    return nan > 0 ? AddResult::kRejectedNonFinite : AddResult::kRejectedInvalid;  // *why names the first
+  }
+  const AddResult r = buffer_.AddCones(f);
+  const std::string topic = kObservationsTopic;
+  if (r == AddResult::kRejectedNonFinite) *why = topic + ": header.stamp not finite";
+  if (r == AddResult::kDroppedLate) *why = topic + ": observations older than max_delay_s (or the filter's start)";
+  if (r == AddResult::kGated) {
+    const BufferCounters& n = buffer_.counters();
+    std::ostringstream s;
+    s << topic << ": no cone of the frame passed the chi-square gates (largest per-cone statistic "
+      << n.cone_last_rejected_chi2 << ", threshold " << buffer_.filter().cone_gate_chi2() << ", " << kConeDof
+      << " dof)";
+    if (buffer_.ReacquireDue()) s << "; the next camera pose re-initialises the filter";
+    *why = s.str();
+  }
   return r;
 }
 

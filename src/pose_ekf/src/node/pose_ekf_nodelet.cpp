@@ -20,6 +20,11 @@
 #include "rig_model/ros/param_table_ros.h"
 
 namespace pose_ekf {
+namespace {
+
+const char* CameraUpdateName(CameraUpdate u) { return u == CameraUpdate::kCones ? "cones" : "pose"; }
+
+}  // namespace
 
 class PoseEkfNodelet : public nodelet::Nodelet {
  private:
@@ -30,6 +35,7 @@ class PoseEkfNodelet : public nodelet::Nodelet {
   void StartReconfigure(const NodeConfig& config);
   void OnCamera(const geometry_msgs::PoseWithCovarianceStampedConstPtr& msg);
   void OnImu(const sensor_msgs::ImuConstPtr& msg);
+  void OnObservations(const cone_tracker::ConeObservationsConstPtr& msg);
   void OnOutputTimer(const ros::TimerEvent& event);
   void OnReconfigure(PoseEkfConfig& cfg, uint32_t level);
   bool ImuRotation(const std::string& imu_frame, Eigen::Quaterniond* q_camera_imu);
@@ -39,7 +45,7 @@ class PoseEkfNodelet : public nodelet::Nodelet {
   void Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
 
   std::unique_ptr<PoseEkfAdapter> adapter_;
-  ros::Subscriber camera_sub_, imu_sub_;
+  ros::Subscriber camera_sub_, imu_sub_, observations_sub_;
   ros::Publisher pose_pub_, odom_pub_;
   ros::Timer output_timer_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
@@ -47,7 +53,7 @@ class PoseEkfNodelet : public nodelet::Nodelet {
   std::unique_ptr<tf2_ros::TransformBroadcaster> tf_broadcaster_;
   std::map<std::string, Eigen::Quaterniond> imu_rotations_;  // static camera-IMU rotation per IMU frame
   std::unique_ptr<rig_model::WallDiagnostics> diagnostics_;  // first: a refused config is published too
-  std::unique_ptr<rig_model::StampRateTask> imu_freq_, camera_freq_;
+  std::unique_ptr<rig_model::StampRateTask> imu_freq_, camera_freq_, observations_freq_;
   boost::recursive_mutex reconfigure_mutex_;  // lets updateConfig() seed the server safely
   std::unique_ptr<dynamic_reconfigure::Server<PoseEkfConfig>> reconfigure_;
   ros::Time last_now_;
@@ -73,6 +79,15 @@ void PoseEkfNodelet::onInit() {
   last_now_ = ros::Time::now();
   NODELET_INFO("pose_ekf: fusing cone_tracker/pose and imu/data_raw into tf %s -> %s", config.cones_frame.c_str(),
                config.camera_frame.c_str());
+  if (config.ekf.camera_update == CameraUpdate::kCones) {
+    if (config.layout_cones.empty()) {
+      NODELET_WARN("pose_ekf: camera_update is cones but ~layout_file is not set: %s is not used, camera poses are",
+                   kObservationsTopic);
+    } else {
+      NODELET_INFO("pose_ekf: per-cone updates from %s (%zu cones in %s)", kObservationsTopic,
+                   config.layout_cones.size(), config.layout_file.c_str());
+    }
+  }
 }
 
 // A refused config stays on /diagnostics as ERROR naming the parameter; the nodelet does nothing else.
@@ -95,6 +110,8 @@ void PoseEkfNodelet::AddDiagnostics(const NodeConfig& config) {
   camera_freq_ = std::make_unique<rig_model::StampRateTask>("camera input", camera_rate);
   diagnostics_->Add(*imu_freq_);
   diagnostics_->Add(*camera_freq_);
+  observations_freq_ = std::make_unique<rig_model::StampRateTask>("cone observations input", camera_rate);
+  diagnostics_->Add(*observations_freq_);
   diagnostics_->Add("filter", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { Diagnose(s); });
 }
 
@@ -104,6 +121,7 @@ void PoseEkfNodelet::AdvertiseAndSubscribe(const NodeConfig& config) {
   odom_pub_ = nh.advertise<nav_msgs::Odometry>("pose_ekf/odometry", 10);
   camera_sub_ = nh.subscribe("cone_tracker/pose", 10, &PoseEkfNodelet::OnCamera, this);
   imu_sub_ = nh.subscribe("imu/data_raw", 200, &PoseEkfNodelet::OnImu, this);
+  observations_sub_ = nh.subscribe(kObservationsTopic, 10, &PoseEkfNodelet::OnObservations, this);
   if (config.output_rate_hz > 0.0) {
     output_timer_ = nh.createTimer(ros::Duration(1.0 / config.output_rate_hz), &PoseEkfNodelet::OnOutputTimer, this);
   }
@@ -173,6 +191,19 @@ void PoseEkfNodelet::OnCamera(const geometry_msgs::PoseWithCovarianceStampedCons
     }
   } catch (const std::exception& e) {
     NODELET_WARN_THROTTLE(1.0, "pose_ekf: camera callback failed: %s", e.what());
+  }
+}
+
+void PoseEkfNodelet::OnObservations(const cone_tracker::ConeObservationsConstPtr& msg) {
+  try {
+    CheckTimeJump();
+    observations_freq_->Tick(msg->header.stamp);
+    std::string why;
+    const AddResult r = adapter_->HandleObservations(*msg, &why);
+    Report(r, why, "cone observations");
+    if (r == AddResult::kApplied || r == AddResult::kReplayed) Publish();
+  } catch (const std::exception& e) {
+    NODELET_WARN_THROTTLE(1.0, "pose_ekf: cone observations callback failed: %s", e.what());
   }
 }
 
@@ -258,8 +289,14 @@ void PoseEkfNodelet::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
                   static_cast<unsigned long>(imu_without_tf_ - imu_without_tf_reported_), imu_tf_error_.c_str());
   } else if (!adapter_->buffer().filter().initialized()) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "waiting for the first camera pose");
+  } else if (adapter_->buffer().ReacquireDue()) {
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
+                  "tracking poorly (position sigma %.2f m, %d camera frames gated in a row): the next camera pose "
+                  "re-initialises the filter",
+                  adapter_->buffer().PositionSigmaM(), adapter_->buffer().camera_gated_in_a_row());
   } else if (adapter_->buffer().camera_gated_in_a_row() > 0) {
-    stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "tracking; the last %d camera poses failed the chi2 gate",
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
+                  "tracking; the last %d camera frames (poses or cone observations) failed the chi2 gate",
                   adapter_->buffer().camera_gated_in_a_row());
   } else {
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "tracking");
@@ -274,6 +311,27 @@ void PoseEkfNodelet::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   stat.add("re-initialisations (chi2 gate)", c.reinits);
   stat.add("camera poses rejected (bad quaternion, position, covariance or frame)", adapter_->camera_rejected());
   stat.add("camera quaternions normalised (| |q|^2 - 1 | > 0.01)", adapter_->camera_quaternions_normalized());
+  // Tightly coupled camera updates (camera_update = cones).
+  stat.add("camera update path", CameraUpdateName(adapter_->config().ekf.camera_update));
+  stat.add("cone frames fused", c.cone_frames_applied);
+  stat.add("cone frames rejected (no cone passed the gates)", c.cone_frames_rejected);
+  stat.add("cones fused", c.cones_applied);
+  stat.add("cones rejected (chi2 gate)", c.cones_gated);
+  stat.add("cones dropped (joint chi2 check of their frame)", c.cones_joint_dropped);
+  stat.add("cones behind the predicted camera", c.cones_behind_camera);
+  stat.add("cone chi2 gate threshold (6 dof)", adapter_->buffer().filter().cone_gate_chi2());
+  stat.add("cone chi2 of the last rejection", c.cone_last_rejected_chi2);
+  stat.add("cone NIS last (frame)", c.cone_nis_last);
+  stat.add("cone NIS mean (frame)", c.cone_nis_count ? c.cone_nis_sum / c.cone_nis_count : 0.0);
+  stat.add("cone observations refused (frame, stamp, intrinsics, no layout)", adapter_->observations_rejected());
+  stat.add("cones refused (NaN pixel or covariance)", adapter_->cones_refused_nan());
+  stat.add("cones refused (unknown cone_id, bad covariance)", adapter_->cones_refused_invalid());
+  stat.add("cone frames before the first pose", c.cone_frames_before_start);
+  stat.add("cone frames not used (camera_update = pose)", c.cone_frames_not_used);
+  stat.add("camera poses not fused (their frame's cones were)", c.poses_superseded);
+  stat.add("cone frames not fused (their pose (re-)initialised the filter)", c.cone_frames_superseded);
+  stat.add("re-acquisitions from a camera pose (cones mode)", c.reacquisitions);
+  stat.add("position sigma (m)", adapter_->buffer().PositionSigmaM());
   stat.add("dropped late", c.dropped_late);
   stat.add("IMU before the first pose", c.imu_before_start);
   stat.add("NaN rejected", c.nan_rejected + adapter_->nan_rejected());

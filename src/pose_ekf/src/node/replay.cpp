@@ -98,6 +98,11 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
         adapter.HandleImu(*msg, imu_rotation(msg->header.frame_id), &why);
         write();
       }
+    } else if (SameTopic(m.getTopic(), options.observations_topic)) {
+      if (auto msg = m.instantiate<cone_tracker::ConeObservations>()) {
+        ++summary.observation_messages;
+        adapter.HandleObservations(*msg, &why);  // used with camera_update: cones and a layout_file
+      }
     }
   }
   const BufferCounters& c = adapter.buffer().counters();
@@ -107,7 +112,11 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
       << ", invalid " << adapter.invalid_rejected() << ", resets " << c.resets << "; camera poses rejected (chi2 gate) "
       << c.camera_gated << " (threshold " << adapter.buffer().filter().camera_gate_chi2() << ", last rejected "
       << c.camera_gate_last_rejected_chi2 << "), re-initialisations " << c.reinits << ", camera NIS mean "
-      << (c.camera_nis_count ? c.camera_nis_sum / c.camera_nis_count : 0.0) << "\n";
+      << (c.camera_nis_count ? c.camera_nis_sum / c.camera_nis_count : 0.0) << "; " << summary.observation_messages
+      << " cone observation messages: cones fused " << c.cones_applied << ", gated " << c.cones_gated
+      << ", joint-dropped " << c.cones_joint_dropped << ", refused " << adapter.observations_rejected() << " + "
+      << adapter.cones_refused_nan() + adapter.cones_refused_invalid() << ", poses not fused (their cones were) "
+      << c.poses_superseded << "\n";
   summary.camera_gated = c.camera_gated;
   summary.reinits = c.reinits;
   return summary;

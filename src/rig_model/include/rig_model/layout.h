@@ -15,6 +15,7 @@
 // Unknown or misspelt keys are refused (strict_yaml.h). ROS-free.
 #pragma once
 
+#include <array>
 #include <string>
 #include <utility>
 #include <vector>
@@ -48,6 +49,13 @@ struct ConeSpec {
   Eigen::Vector3d peak_m() const { return base_m + Eigen::Vector3d(0, 0, height_m); }
   Eigen::Vector3d mid_m() const { return base_m + Eigen::Vector3d(0, 0, 0.5 * height_m); }
 };
+
+// The peak, mid and base model points (3.12) of a cone, moved to its surface on the side facing
+// the centre of projection (3.1.4): the silhouette's mid and base points lie on the front of the
+// cone, radius tau * (height above) off its axis, toward the camera in the base plane (3.16)
+// (3.17) (3.18). The one definition the tracker's pose and the EKF's per-cone update share.
+std::array<Eigen::Vector3d, 3> CorrectedModelPoints(const Eigen::Vector3d& base_m, double height_m, double tau,
+                                                    const Eigen::Vector3d& p_camera_in_cones_m);
 
 // Orange things that are not cones, to test the segmenter honestly.
 struct BoxSpec {

@@ -10,6 +10,9 @@ namespace pose_ekf {
 
 enum class QuatIntegration { kFirstOrder, kExact };                    // (2.70) (thesis default) or (2.71)
 enum class AccelMode { kOff, kOrientation, kPositionAndOrientation };  // h, H: (5.36) (5.37) / (5.39) (5.40)
+// What corrects the filter from the camera: the tracker's cone observations, one update per cone
+// (cone_measurement.h), or its single-frame pose (5.24), the thesis's loosely coupled path.
+enum class CameraUpdate { kCones, kPose };
 
 struct EkfConfig {
   // Process noise, variance per second (5.23) expressed as sigma per sqrt(second).
@@ -57,6 +60,16 @@ struct EkfConfig {
   // wrong: the filter re-initialises from the last of them, like its first
   // initialisation. 0 never re-initialises.
   int reinit_after_rejections = 15;  // 0.5 s at 30 Hz
+
+  // Tightly coupled camera updates (cone_measurement.h), beyond the thesis. kCones: a frame's cone
+  // observations are fused and its pose is not (fused once); a pose whose frame brought no
+  // observations is fused as with kPose; poses still initialise the filter, and re-initialise it
+  // (MeasurementBuffer) after reinit_after_rejections rejected cone frames in a row or when the
+  // position sigma exceeds reacquire_sigma_p_m. kPose: observations are ignored.
+  CameraUpdate camera_update = CameraUpdate::kCones;
+  double cone_gate_probability = 0.9999;   // per cone: yᵀ S⁻¹ y against chi2(6) at this probability; 1 = off
+  double cone_joint_probability = 0.9999;  // per frame: the fused cones' NIS sum against chi2(6 k); 1 = off
+  double reacquire_sigma_p_m = 0.5;        // largest position sigma before a pose re-initialises; 0 = never
 
   // Options beyond the thesis.
   QuatIntegration quat_integration = QuatIntegration::kFirstOrder;

@@ -3,6 +3,9 @@
 // Update*() at each measurement's stamp. MeasurementBuffer does that in stamp order.
 #pragma once
 
+#include <vector>
+
+#include "pose_ekf/core/cone_measurement.h"
 #include "pose_ekf/core/config.h"
 #include "pose_ekf/core/measurement.h"
 #include "pose_ekf/core/process_model.h"
@@ -55,6 +58,15 @@ class EkfCore {
   UpdateResult UpdateGyro(const ImuMeasurement& m, double* nis = nullptr);
   UpdateResult UpdateAccel(const ImuMeasurement& m, double* nis = nullptr);
 
+  // The tightly coupled camera update (cone_measurement.h, cone_update.cpp): the frame's cones in
+  // sequence, each gated on yᵀ S⁻¹ y against chi2(6) at cone_gate_probability, then the fused
+  // cones' joint NIS against chi2(6 k) at cone_joint_probability (the worst cone is dropped and the
+  // rest retried). kApplied if at least one cone was fused, kGated if the gates (or a prediction
+  // behind the camera) left none; the state is unchanged unless kApplied.
+  UpdateResult UpdateCones(const ConeFrame& f, ConeFrameResult* result = nullptr);
+  double cone_gate_chi2() const { return cone_gate_chi2_; }
+  double cone_joint_chi2(int cones) const;
+
   // The camera gate's threshold on the 6-dof statistic (infinite when off).
   double camera_gate_chi2() const { return camera_gate_chi2_; }
   static constexpr int kCameraGateDof = 6;  // 3 rotation + 3 position
@@ -75,9 +87,13 @@ class EkfCore {
                       const Eigen::Matrix<double, M, M>& R, double* nis);
   void PredictStep(double dt_s);
   void InitializeUnmeasured(int n);
+  void SetConeGates();  // cone_update.cpp
 
   EkfConfig config_;
   double camera_gate_chi2_ = 0.0;  // config_.camera_gate_chi2, infinite when off
+  static constexpr int kConeJointTableSize = 8;
+  double cone_gate_chi2_ = 0.0;          // chi2(6) at cone_gate_probability
+  std::vector<double> cone_joint_chi2_;  // chi2(6 k) at cone_joint_probability, k = 1..
   FilterState s_;
   bool initialized_ = false;
 };

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "pose_ekf/core/cone_measurement.h"
 #include "pose_ekf/core/config.h"
 #include "rig_model/param_table.h"
 
@@ -27,6 +28,11 @@ struct NodeConfig {
   bool use_accel = true;
   int accel_mode = static_cast<int>(AccelMode::kPositionAndOrientation);
   int quat_integration = static_cast<int>(QuatIntegration::kFirstOrder);
+  int camera_update = static_cast<int>(CameraUpdate::kCones);  // ApplyModes sets ekf.camera_update
+  // The cone layout, the file cone_tracker loads (its ~layout_file): rig_model's schema and parser.
+  // Needed for cone_tracker/observations; without it only camera poses are used.
+  std::string layout_file;
+  std::vector<ConeGeometry> layout_cones;  // read from layout_file by LoadConfig (not a parameter)
   // ~config_file: a note set by pose_ekf.launch naming the YAML it loaded, so that errors name the file.
   std::string config_file;
   EkfConfig ekf;
@@ -39,7 +45,8 @@ const rig_model::ParamTable<NodeConfig>& Params();
 // Every parameter name (Params().Names()).
 std::vector<std::string> ParamNames();
 
-// Sets ekf.accel_mode (use_accel ? accel_mode : off) and ekf.quat_integration from the table's fields.
+// Sets ekf.accel_mode (use_accel ? accel_mode : off), ekf.quat_integration and ekf.camera_update from
+// the table's fields.
 void ApplyModes(NodeConfig* config);
 // ApplyModes, then the range checks; throws std::invalid_argument naming the parameter.
 void ValidateConfig(NodeConfig* config);
@@ -52,5 +59,8 @@ NodeConfig LoadConfig(const ros::NodeHandle& private_nh);
 // The same table from a YAML file of config/pose_ekf.yaml's form (ekf_replay --config); an unknown key
 // or a wrong type is refused with the file, its line and (for a typo) the nearest known key.
 NodeConfig LoadConfigFile(const std::string& yaml_path);
+// Reads config->layout_file (if set) into config->layout_cones; both loaders call it. Throws
+// std::invalid_argument with rig_model's message naming the file, line and field.
+void LoadLayout(NodeConfig* config);
 
 }  // namespace pose_ekf

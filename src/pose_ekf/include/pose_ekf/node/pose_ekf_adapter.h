@@ -4,6 +4,7 @@
 // without a ROS master; the nodelet adds those.
 #pragma once
 
+#include <cone_tracker/ConeObservations.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/Odometry.h>
@@ -21,6 +22,9 @@ enum class ConversionResult { kOk, kNonFinite, kInvalid };
 
 // The nodelet's camera subscription (before remapping), named in the reasons a pose is refused.
 constexpr const char* kCameraTopic = "cone_tracker/pose";
+// The nodelet's cone observation subscription (before remapping), named in the reasons a frame or a
+// cone is refused.
+constexpr const char* kObservationsTopic = "cone_tracker/observations";
 // A camera quaternion with | |q|² - 1 | above this is counted as far from unit
 // (tf2 refuses such a quaternion). Any non-zero finite quaternion is normalised
 // and used: the direction is the rotation, and the gate judges it.
@@ -36,6 +40,16 @@ ConversionResult CameraFromMsg(const geometry_msgs::PoseWithCovarianceStamped& m
 ConversionResult ImuFromMsg(const sensor_msgs::Imu& msg, const Eigen::Quaterniond& q_camera_imu, ImuMeasurement* out,
                             std::string* why);
 
+// cone_tracker/observations -> ConeFrame. The whole message is refused (kInvalid or kNonFinite) for a
+// wrong header.frame_id (not camera_frame), a non-finite stamp, fx or fy not positive and finite,
+// cx or cy not finite, or no layout (layout_cones empty). A single cone with a non-finite pixel
+// (kNonFinite), an id not in the layout, or a covariance that is not a finite symmetric positive
+// definite 2x2 (kInvalid) is left out and counted in *cones_refused; the others are kept, and *why
+// names the first problem (topic, field and cone). kOk with no cones left means nothing to fuse.
+ConversionResult ConeFrameFromMsg(const cone_tracker::ConeObservations& msg, const std::string& camera_frame,
+                                  const std::vector<ConeGeometry>& layout, ConeFrame* out, std::string* why,
+                                  int* cones_nan, int* cones_invalid);
+
 struct AdapterOutputs {
   geometry_msgs::PoseWithCovarianceStamped pose;
   nav_msgs::Odometry odometry;
@@ -50,6 +64,9 @@ class PoseEkfAdapter {
   // the message never reached it); *why says why a message was refused.
   AddResult HandleCamera(const geometry_msgs::PoseWithCovarianceStamped& msg, std::string* why);
   AddResult HandleImu(const sensor_msgs::Imu& msg, const Eigen::Quaterniond& q_camera_imu, std::string* why);
+  // cone_tracker/observations: ConeFrameFromMsg, then MeasurementBuffer::AddCones. A message whose
+  // every cone was refused returns the refusal; a stamp older than the buffer is kDroppedLate.
+  AddResult HandleObservations(const cone_tracker::ConeObservations& msg, std::string* why);
 
   // The current estimate as messages, stamped at the filter time. False before
   // initialisation.
@@ -71,6 +88,11 @@ class PoseEkfAdapter {
   // the two above), and those whose quaternion was far from unit (normalised, used).
   uint64_t camera_rejected() const { return camera_rejected_; }
   uint64_t camera_quaternions_normalized() const { return camera_quaternions_normalized_; }
+  // cone_tracker/observations refused whole (frame, stamp, intrinsics, no layout), and single cones
+  // refused (non-finite pixel, unknown id, bad covariance); also in the NaN/invalid totals above.
+  uint64_t observations_rejected() const { return observations_rejected_; }
+  uint64_t cones_refused_nan() const { return cones_refused_nan_; }
+  uint64_t cones_refused_invalid() const { return cones_refused_invalid_; }
 
  private:
   bool FillOutputs(const EkfCore& filter, AdapterOutputs* out) const;
@@ -80,6 +102,7 @@ class PoseEkfAdapter {
   AddResult Count(ConversionResult r);
   uint64_t invalid_rejected_ = 0, nan_rejected_ = 0;
   uint64_t camera_rejected_ = 0, camera_quaternions_normalized_ = 0;
+  uint64_t observations_rejected_ = 0, cones_refused_nan_ = 0, cones_refused_invalid_ = 0;
 };
 
 }  // namespace pose_ekf

@@ -14,11 +14,12 @@ struct ReplayOptions {
   std::string output_path;
   std::string camera_topic = "cone_tracker/pose";
   std::string imu_topic = "imu/data_raw";
+  std::string observations_topic = "cone_tracker/observations";  // per-cone updates (config.layout_file)
   NodeConfig config;
 };
 
 struct ReplaySummary {
-  size_t camera_messages = 0, imu_messages = 0, poses_written = 0;
+  size_t camera_messages = 0, imu_messages = 0, poses_written = 0, observation_messages = 0;
   size_t camera_gated = 0, reinits = 0;  // the chi-square gate on camera poses
   bool orientation_only = false;         // no camera messages: gyro + gravity updates
   std::string imu_rotation_source;

@@ -1,0 +1,92 @@
+// The tightly coupled camera measurement: the image points of ONE cone (cone_tracker/observations,
+// cone_tracker/ConeObservation.msg), fused per cone so that one or two visible cones still correct
+// the filter, where the single-frame pose (5.24) needs three. No ROS types.
+//
+// z = the undistorted pixels of the cone's peak, mid and base (3.1.5.4), 6 rows. The message has
+// fixed-size fields, so all three points are always present: a cone with a non-finite point is
+// refused as a whole (the adapter counts it). h(x) = the pinhole projection (fx, fy, cx, cy) of
+// the cone's model points (rig_model::CorrectedModelPoints: peak, and mid and base on the surface
+// facing the camera, (3.18), the definition the tracker's pose uses) through the camera pose in the
+// state, T_cones_camera = (q, p) (5.18).
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "pose_ekf/core/process_model.h"
+
+namespace rig_model {
+struct Layout;
+}
+
+namespace pose_ekf {
+
+// Ideal pinhole intrinsics of undistorted pixels (ConeObservations' fx fy cx cy).
+struct PinholeIntrinsics {
+  double fx_px = 0.0, fy_px = 0.0, cx_px = 0.0, cy_px = 0.0;
+};
+
+// A layout cone, as the tracker models it (rig_model::ConeSpec's base, height and tau).
+struct ConeGeometry {
+  Eigen::Vector3d base_m = Eigen::Vector3d::Zero();  // centre of the base circle in `cones`
+  double height_m = 0.71;
+  double tau = 1.0 / 7.0;
+};
+// The layout's cones in file order: index = ConeObservation::cone_id.
+std::vector<ConeGeometry> ConeGeometries(const rig_model::Layout& layout);
+
+constexpr int kConePoints = 3;  // peak, mid, base
+constexpr int kConeDof = 2 * kConePoints;
+using ConeVector = Eigen::Matrix<double, kConeDof, 1>;
+using ConeMatrix = Eigen::Matrix<double, kConeDof, kConeDof>;
+using ConeJacobian = Eigen::Matrix<double, kConeDof, Eigen::Dynamic, 0, kConeDof, kMaxStates>;
+
+// One associated cone in one image.
+struct ConeObservation {
+  int cone_id = -1;                             // layout index (for diagnostics; the geometry travels with it)
+  ConeGeometry cone;                            // the layout cone it was associated with
+  std::array<Eigen::Vector2d, kConePoints> px;  // peak, mid, base (undistorted, u right, v down)
+  std::array<Eigen::Matrix2d, kConePoints> cov_px2;
+};
+
+// Every associated cone of one image, stamped at exposure like the camera pose.
+struct ConeFrame {
+  double stamp_s = 0.0;
+  PinholeIntrinsics K;
+  std::vector<ConeObservation> cones;
+};
+
+// "" when the frame can be fused (finite stamp and pixels, fx, fy > 0, symmetric positive definite
+// 2x2 covariances), otherwise what is wrong, naming the field (e.g. "cones[1].mid_px is not finite").
+std::string CheckConeFrame(const ConeFrame& f);
+
+// Points nearer than this in front of the camera are not projected (the linearisation breaks down).
+constexpr double kConeMinDepthM = 0.05;
+
+// h(x) and H = ∂h/∂x (6 × n, non-zero in the q and p columns only) of one cone. The quaternion
+// enters through the general rotation of (2.36), like the accelerometer model, so H is exact for
+// a non-unit q too; the model points move with p (3.16)-(3.18), which H includes. False when a
+// point is not at least kConeMinDepthM in front of the camera.
+bool ProjectCone(const StateVector& x, const ConeGeometry& cone, const PinholeIntrinsics& K, ConeVector* h,
+                 ConeJacobian* H);
+
+// R: the three 2x2 covariances on the diagonal.
+ConeMatrix ConeCovariance(const ConeObservation& o);
+ConeVector ConePixels(const ConeObservation& o);
+
+// What EkfCore::UpdateCones did with one frame.
+struct ConeFrameResult {
+  int fused = 0;          // cones fused
+  int gated = 0;          // cones outside the per-cone chi-square gate
+  int joint_dropped = 0;  // cones dropped because the frame's joint NIS failed
+  int behind_camera = 0;  // a model point not in front of the predicted camera
+  int numerical = 0;      // S not positive definite
+  double nis = 0.0;       // the fused cones' joint NIS (the sum of the sequential ones)
+  double joint_threshold = 0.0;
+  double worst_gate_chi2 = 0.0;  // the largest per-cone statistic of the frame
+};
+
+}  // namespace pose_ekf

@@ -1,0 +1,219 @@
+// The per-cone camera update (cone_measurement.h) and its gates.
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include <boost/math/distributions/chi_squared.hpp>
+
+#include "pose_ekf/core/cone_measurement.h"
+#include "pose_ekf/core/ekf_core.h"
+#include "pose_math/quaternion.h"
+#include "rig_model/layout.h"
+
+namespace pose_ekf {
+namespace {
+
+using pose_math::Quat;
+
+// R(q)ᵀ v for the general R of (2.36) (Rᵀ(q) = R(q*)) and its derivative w.r.t. q.
+// (pose_math::Rotate normalises q; the EKF's h must not, for H to be its exact derivative.)
+Eigen::Vector3d RotateInverse(const Quat& q, const Eigen::Vector3d& v) {
+  const double q0 = q[0];
+  const Eigen::Vector3d qv = -q.tail<3>();
+  return (q0 * q0 - qv.squaredNorm()) * v + 2.0 * qv.dot(v) * qv + 2.0 * q0 * qv.cross(v);
+}
+
+Eigen::Matrix<double, 3, 4> RotateInverseJacobian(const Quat& q, const Eigen::Vector3d& v) {
+  Eigen::Matrix<double, 3, 4> J = pose_math::RotateJacobianWrtQuat(pose_math::Conjugate(q), v);
+  J.rightCols<3>() *= -1.0;  // chain rule through q* = diag(1,-1,-1,-1) q
+  return J;
+}
+
+// ∂(unit horizontal direction from the cone's axis to the camera)/∂p, (3.16) (3.17).
+Eigen::Matrix3d TowardJacobian(const Eigen::Vector3d& base_m, const Eigen::Vector3d& p) {
+  Eigen::Vector3d w = p - base_m;
+  w.z() = 0.0;
+  const double n = w.norm();
+  if (!(n > 1e-9)) return Eigen::Matrix3d::Zero();  // CorrectedModelPoints' degenerate case: constant
+  const Eigen::Vector3d t = w / n;
+  Eigen::Matrix3d J = Eigen::Vector3d(1.0, 1.0, 0.0).asDiagonal();
+  J -= t * t.transpose();
+  return J / n;
+}
+
+double Quantile(int dof, double probability) {
+  if (!(probability < 1.0)) return std::numeric_limits<double>::infinity();
+  return boost::math::quantile(boost::math::chi_squared(dof), probability);
+}
+
+}  // namespace
+
+std::vector<ConeGeometry> ConeGeometries(const rig_model::Layout& layout) {
+  std::vector<ConeGeometry> out;
+  for (const rig_model::ConeSpec& c : layout.cones) out.push_back({c.base_m, c.height_m, c.tau});
+  return out;
+}
+
+std::string CheckConeFrame(const ConeFrame& f) {
+  if (!std::isfinite(f.stamp_s)) return "header.stamp is not finite";
+  if (!(f.K.fx_px > 0.0) || !std::isfinite(f.K.fx_px)) return "fx is not positive and finite";
+  if (!(f.K.fy_px > 0.0) || !std::isfinite(f.K.fy_px)) return "fy is not positive and finite";
+  if (!std::isfinite(f.K.cx_px) || !std::isfinite(f.K.cy_px)) return "cx or cy is not finite";
+  static const char* const kNames[kConePoints] = {"peak", "mid", "base"};
+  for (size_t i = 0; i < f.cones.size(); ++i) {
+    const ConeObservation& o = f.cones[i];
+    const std::string at = "cones[" + std::to_string(i) + "].";
+    for (int k = 0; k < kConePoints; ++k) {
+      if (!o.px[k].allFinite()) return at + kNames[k] + "_px is not finite";
+      const Eigen::Matrix2d& c = o.cov_px2[k];
+      if (!c.allFinite() || std::abs(c(0, 1) - c(1, 0)) > 1e-9 * (std::abs(c(0, 0)) + std::abs(c(1, 1))) ||
+          !(c(0, 0) > 0.0) || !(c.determinant() > 0.0)) {
+        return at + kNames[k] + "_cov_px2 is not a finite symmetric positive definite 2x2 matrix";
+      }
+    }
+    if (!o.cone.base_m.allFinite() || !(o.cone.height_m > 0.0) || !(o.cone.tau >= 0.0)) {
+      return at + "cone_id " + std::to_string(o.cone_id) + ": layout geometry is not usable";
+    }
+  }
+  return "";
+}
+
+bool ProjectCone(const StateVector& x, const ConeGeometry& cone, const PinholeIntrinsics& K, ConeVector* h,
+                 ConeJacobian* H) {
+  const Quat q = x.segment<4>(kQ);
+  const Eigen::Vector3d p = x.segment<3>(kP);
+  const auto X_m = rig_model::CorrectedModelPoints(cone.base_m, cone.height_m, cone.tau, p);  // (3.18)
+  const double r = cone.tau * cone.height_m;
+  const Eigen::Matrix3d dtoward_dp = TowardJacobian(cone.base_m, p);
+  // ∂X_m/∂p for peak, mid, base: the surface points follow the camera around the axis.
+  const std::array<Eigen::Matrix3d, kConePoints> dX_dp = {Eigen::Matrix3d::Zero(), 0.5 * r * dtoward_dp,
+                                                          r * dtoward_dp};
+  Eigen::Matrix3d Rt;  // R(q)ᵀ by columns, from the same general form
+  for (int i = 0; i < 3; ++i) Rt.col(i) = RotateInverse(q, Eigen::Vector3d::Unit(i));
+  if (H) *H = ConeJacobian::Zero(kConeDof, x.size());
+  for (int k = 0; k < kConePoints; ++k) {
+    const Eigen::Vector3d d = X_m[k] - p;
+    const Eigen::Vector3d Xc = Rt * d;  // the point in {C}
+    if (!(Xc.z() >= kConeMinDepthM)) return false;
+    const double iz = 1.0 / Xc.z();
+    h->segment<2>(2 * k) << K.fx_px * Xc.x() * iz + K.cx_px, K.fy_px * Xc.y() * iz + K.cy_px;  // pinhole
+    if (!H) continue;
+    Eigen::Matrix<double, 2, 3> dpi;  // ∂(u, v)/∂Xc
+    dpi << K.fx_px * iz, 0.0, -K.fx_px * Xc.x() * iz * iz, 0.0, K.fy_px * iz, -K.fy_px * Xc.y() * iz * iz;
+    H->block<2, 4>(2 * k, kQ) = dpi * RotateInverseJacobian(q, d);
+    H->block<2, 3>(2 * k, kP) = dpi * Rt * (dX_dp[k] - Eigen::Matrix3d::Identity());
+  }
+  return true;
+}
+
+ConeMatrix ConeCovariance(const ConeObservation& o) {
+  ConeMatrix R = ConeMatrix::Zero();
+  for (int k = 0; k < kConePoints; ++k) R.block<2, 2>(2 * k, 2 * k) = 0.5 * (o.cov_px2[k] + o.cov_px2[k].transpose());
+  return R;
+}
+
+ConeVector ConePixels(const ConeObservation& o) {
+  ConeVector z;
+  for (int k = 0; k < kConePoints; ++k) z.segment<2>(2 * k) = o.px[k];
+  return z;
+}
+
+void EkfCore::SetConeGates() {
+  cone_gate_chi2_ = Quantile(kConeDof, config_.cone_gate_probability);
+  cone_joint_chi2_.clear();
+  for (int k = 1; k <= kConeJointTableSize; ++k)
+    cone_joint_chi2_.push_back(Quantile(k * kConeDof, config_.cone_joint_probability));
+}
+
+double EkfCore::cone_joint_chi2(int cones) const {
+  if (cones < 1) return 0.0;
+  if (cones <= static_cast<int>(cone_joint_chi2_.size())) return cone_joint_chi2_[static_cast<size_t>(cones - 1)];
+  return Quantile(cones * kConeDof, config_.cone_joint_probability);
+}
+
+// Sequential per cone: with the cones' pixel noise independent (R block-diagonal across cones), the
+// sequential updates equal the joint one for a linear h, each a 6×6 S instead of a 6k×6k one, and
+// every cone is linearised at the state the previous cones corrected. The joint NIS of the frame is
+// the sum of the sequential NIS values (p(z1, z2) = p(z1) p(z2 | z1)), so the frame check costs
+// nothing extra; it needs a rollback, hence the copy of the state.
+UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out) {
+  ConeFrameResult res;
+  if (!config_.use_camera) return UpdateResult::kDisabled;
+  if (!initialized_ || f.cones.empty()) return UpdateResult::kDisabled;
+  if (!CheckConeFrame(f).empty()) return UpdateResult::kRejectedNonFinite;
+  const FilterState prior = s_;
+  // 1. Per cone against the prior: the image-space gate of 6.4.1, on the filter's own S.
+  std::vector<int> candidates;
+  std::vector<double> d2(f.cones.size(), 0.0);
+  ConeVector h;
+  ConeJacobian H;
+  for (size_t i = 0; i < f.cones.size(); ++i) {
+    const ConeObservation& o = f.cones[i];
+    if (!ProjectCone(s_.x, o.cone, f.K, &h, &H)) {
+      ++res.behind_camera;
+      continue;
+    }
+    const ConeVector y = ConePixels(o) - h;
+    ConeMatrix S = H * s_.P * H.transpose() + ConeCovariance(o);  // the S of (5.15)
+    S = 0.5 * (S + S.transpose()).eval();
+    const Eigen::LDLT<ConeMatrix> ldlt(S);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0)) {
+      ++res.numerical;
+      continue;
+    }
+    d2[i] = y.dot(ldlt.solve(y));
+    res.worst_gate_chi2 = std::max(res.worst_gate_chi2, d2[i]);
+    if (d2[i] > cone_gate_chi2_) {
+      ++res.gated;
+      continue;
+    }
+    candidates.push_back(static_cast<int>(i));
+  }
+  // 2. The remaining cones in sequence; the frame's joint NIS against chi2(6 k), else drop the
+  // cone that disagreed most with the prior and try again (a wrong association that passed alone).
+  UpdateResult result = UpdateResult::kGated;
+  while (!candidates.empty()) {
+    s_ = prior;
+    double nis_sum = 0.0;
+    int failed = -1;
+    for (int i : candidates) {
+      const ConeObservation& o = f.cones[static_cast<size_t>(i)];
+      double nis = 0.0;
+      if (!ProjectCone(s_.x, o.cone, f.K, &h, &H) ||
+          Update<kConeDof>(ConePixels(o) - h, H, ConeCovariance(o), &nis) != UpdateResult::kApplied) {
+        failed = i;
+        break;
+      }
+      nis_sum += nis;
+    }
+    const int k = static_cast<int>(candidates.size());
+    if (failed >= 0) {
+      ++res.numerical;
+      candidates.erase(std::find(candidates.begin(), candidates.end(), failed));
+      continue;
+    }
+    res.joint_threshold = cone_joint_chi2(k);
+    if (nis_sum <= res.joint_threshold) {
+      res.fused = k;
+      res.nis = nis_sum;
+      result = UpdateResult::kApplied;
+      break;
+    }
+    const auto worst = std::max_element(candidates.begin(), candidates.end(), [&](int a, int b) {
+      return d2[static_cast<size_t>(a)] < d2[static_cast<size_t>(b)];
+    });
+    candidates.erase(worst);
+    ++res.joint_dropped;
+  }
+  if (result != UpdateResult::kApplied) {
+    s_ = prior;
+    // A cone the prediction puts behind the camera disagrees with it, like a gated one.
+    if (res.gated + res.joint_dropped + res.behind_camera == 0) result = UpdateResult::kNumericalFailure;
+  }
+  if (out) *out = res;
+  return result;
+}
+
+}  // namespace pose_ekf

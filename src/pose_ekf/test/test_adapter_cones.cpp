@@ -1,0 +1,202 @@
+// cone_tracker/observations through the adapter (no master): the layout file from ~layout_file
+// through rig_model's parser, the message checks (NaN pixels, unknown cone ids, intrinsics, frame,
+// stamps older than the buffer), each counted and named, and the new parameters.
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <limits>
+#include <random>
+
+#include "pose_ekf/node/pose_ekf_adapter.h"
+#include "pose_ekf/testing/synthetic_cones.h"
+#include "rig_model/layout.h"
+#include "ros_messages.h"
+
+namespace pose_ekf_test {
+namespace {
+
+using pose_ekf::AddResult;
+
+const std::string kDefaultLayout = std::string(POSE_EKF_SOURCE_DIR) + "/../rig_model/config/layouts/default.yaml";
+
+std::string Write(const std::string& name, const std::string& text) {
+  const std::string path = "/tmp/" + name + "_" + std::to_string(getpid()) + ".yaml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+cone_tracker::ConeObservations ObservationsMsg(const pose_ekf::ConeFrame& f) {
+  cone_tracker::ConeObservations msg;
+  msg.header.stamp.fromSec(f.stamp_s);
+  msg.header.frame_id = "camera_optical";
+  msg.fx = f.K.fx_px, msg.fy = f.K.fy_px, msg.cx = f.K.cx_px, msg.cy = f.K.cy_px;
+  for (const pose_ekf::ConeObservation& o : f.cones) {
+    cone_tracker::ConeObservation c;
+    c.cone_id = o.cone_id;
+    boost::array<double, 2>* px[3] = {&c.peak_px, &c.mid_px, &c.base_px};
+    boost::array<double, 4>* cov[3] = {&c.peak_cov_px2, &c.mid_cov_px2, &c.base_cov_px2};
+    for (int k = 0; k < 3; ++k) {
+      (*px[k])[0] = o.px[k].x(), (*px[k])[1] = o.px[k].y();
+      for (int i = 0; i < 4; ++i) (*cov[k])[static_cast<size_t>(i)] = o.cov_px2[k](i / 2, i % 2);
+    }
+    msg.cones.push_back(c);
+  }
+  return msg;
+}
+
+pose_ekf::NodeConfig WithLayout() {
+  pose_ekf::NodeConfig c;
+  c.layout_file = kDefaultLayout;
+  pose_ekf::LoadLayout(&c);
+  return c;
+}
+
+TEST(AdapterCones, NewParametersAndTheLayoutFileLoad) {
+  const pose_ekf::NodeConfig c =
+      pose_ekf::LoadConfigFile(Write("pose_ekf_cone_keys",
+                                     "camera_update: pose\ncone_gate_probability: 0.999\ncone_joint_probability: 0.99\n"
+                                     "reacquire_sigma_p_m: 0.3\nlayout_file: " +
+                                         kDefaultLayout + "\n"));
+  EXPECT_EQ(c.ekf.camera_update, pose_ekf::CameraUpdate::kPose);
+  EXPECT_EQ(c.ekf.cone_gate_probability, 0.999);
+  EXPECT_EQ(c.ekf.cone_joint_probability, 0.99);
+  EXPECT_EQ(c.ekf.reacquire_sigma_p_m, 0.3);
+  ASSERT_EQ(c.layout_cones.size(), 3u);
+  const auto expected = pose_ekf::ConeGeometries(rig_model::DefaultLayout());
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_LT((c.layout_cones[i].base_m - expected[i].base_m).norm(), 1e-12);
+    EXPECT_EQ(c.layout_cones[i].height_m, expected[i].height_m);
+  }
+  EXPECT_EQ(pose_ekf::NodeConfig{}.ekf.camera_update, pose_ekf::CameraUpdate::kCones);  // the default
+  EXPECT_TRUE(pose_ekf::NodeConfig{}.layout_file.empty());
+}
+
+TEST(AdapterCones, BadLayoutFileOrValuesAreRefusedNamingThem) {
+  auto message = [](const std::string& yaml) {
+    try {
+      pose_ekf::LoadConfigFile(Write("pose_ekf_cone_bad", yaml));
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::string missing = message("layout_file: /nonexistent/cones.yaml\n");
+  EXPECT_NE(missing.find("layout_file"), std::string::npos) << missing;
+  EXPECT_NE(missing.find("/nonexistent/cones.yaml"), std::string::npos) << missing;
+  const std::string bad = Write("pose_ekf_bad_layout", "cones:\n  - {x_m: 1.0, y_m: 0.0, hieght_m: 0.7}\n");
+  const std::string typo = message("layout_file: " + bad + "\n");
+  EXPECT_NE(typo.find(bad), std::string::npos) << typo;
+  EXPECT_NE(typo.find("hieght_m"), std::string::npos) << typo;
+  EXPECT_NE(message("camera_update: both\n").find("camera_update"), std::string::npos);
+  EXPECT_NE(message("cone_gate_probability: 0\n").find("cone_gate_probability"), std::string::npos);
+  EXPECT_NE(message("reacquire_sigma_p_m: -1\n").find("reacquire_sigma_p_m"), std::string::npos);
+}
+
+// A tracking adapter: initialised from the rig's first pose, then one IMU sample.
+struct Tracking {
+  pose_ekf::PoseEkfAdapter adapter{WithLayout()};
+  std::vector<Event> events;
+  std::mt19937 rng{3};
+  Tracking() {
+    RigSimConfig sim;
+    sim.duration_s = 0.5;
+    events = GenerateRig(sim);
+    std::string why;
+    EXPECT_EQ(adapter.HandleCamera(CameraMsg(events[0].camera), &why), AddResult::kInitialized) << why;
+  }
+  // The observations of camera event `k` (k-th camera frame).
+  cone_tracker::ConeObservations Frame(int k) {
+    int seen = 0;
+    for (const Event& e : events) {
+      if (!e.is_camera) {
+        if (seen > k) break;
+        continue;
+      }
+      if (seen++ == k) {
+        for (const Event& i : events) {
+          if (!i.is_camera && i.stamp_s < e.stamp_s && i.stamp_s > adapter.buffer().filter().state().stamp_s) {
+            std::string why;
+            adapter.HandleImu(ImuMsg(i.imu), kQCameraImu, &why);
+          }
+        }
+        return ObservationsMsg(
+            ObserveCones(e.stamp_s, e.truth.T_cones_camera, DefaultCones(), {0, 1, 2}, DefaultIntrinsics(), 1.0, &rng));
+      }
+    }
+    ADD_FAILURE() << "no camera frame " << k;
+    return {};
+  }
+};
+
+TEST(AdapterCones, GoodObservationsAreFused) {
+  Tracking t;
+  std::string why;
+  EXPECT_EQ(t.adapter.HandleObservations(t.Frame(1), &why), AddResult::kApplied) << why;
+  EXPECT_TRUE(why.empty()) << why;
+  EXPECT_EQ(t.adapter.buffer().counters().cones_applied, 3u);
+  EXPECT_EQ(t.adapter.buffer().counters().cone_frames_applied, 1u);
+}
+
+TEST(AdapterCones, BadConesAreLeftOutCountedAndNamed) {
+  Tracking t;
+  std::string why;
+  cone_tracker::ConeObservations msg = t.Frame(1);
+  msg.cones[1].mid_px[0] = std::numeric_limits<double>::quiet_NaN();
+  msg.cones[2].cone_id = 7;  // not in the 3-cone layout
+  EXPECT_EQ(t.adapter.HandleObservations(msg, &why), AddResult::kApplied);
+  EXPECT_EQ(why, "cone_tracker/observations: cones[1] (cone_id 1): mid_px is not finite");
+  EXPECT_EQ(t.adapter.cones_refused_nan(), 1u);
+  EXPECT_EQ(t.adapter.cones_refused_invalid(), 1u);
+  EXPECT_EQ(t.adapter.buffer().counters().cones_applied, 1u);  // cone 0 alone
+  msg = t.Frame(2);
+  msg.cones[0].cone_id = -1;
+  msg.cones[1].cone_id = 3;
+  msg.cones[2].base_cov_px2[0] = -1.0;
+  why.clear();
+  EXPECT_EQ(t.adapter.HandleObservations(msg, &why), AddResult::kRejectedInvalid);
+  EXPECT_EQ(why, "cone_tracker/observations: cones[0] (cone_id -1): cone_id is not in the layout (3 cones)");
+  EXPECT_EQ(t.adapter.cones_refused_invalid(), 4u);
+  EXPECT_EQ(t.adapter.invalid_rejected(), 4u);
+  EXPECT_EQ(t.adapter.nan_rejected(), 1u);
+}
+
+TEST(AdapterCones, BadIntrinsicsFrameOrNoLayoutRefuseTheMessage) {
+  Tracking t;
+  std::string why;
+  cone_tracker::ConeObservations msg = t.Frame(1);
+  msg.fx = 0.0;
+  EXPECT_EQ(t.adapter.HandleObservations(msg, &why), AddResult::kRejectedInvalid);
+  EXPECT_NE(why.find("cone_tracker/observations: intrinsics fx 0"), std::string::npos) << why;
+  msg.fx = 800.0;
+  msg.fy = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(t.adapter.HandleObservations(msg, &why), AddResult::kRejectedNonFinite);
+  msg.fy = 800.0;
+  msg.header.frame_id = "camera";
+  EXPECT_EQ(t.adapter.HandleObservations(msg, &why), AddResult::kRejectedInvalid);
+  EXPECT_EQ(why, "cone_tracker/observations: header.frame_id is 'camera', expected 'camera_optical'");
+  EXPECT_EQ(t.adapter.observations_rejected(), 3u);
+  EXPECT_EQ(t.adapter.buffer().counters().cones_applied, 0u);
+  pose_ekf::PoseEkfAdapter no_layout{pose_ekf::NodeConfig{}};
+  EXPECT_EQ(no_layout.HandleObservations(t.Frame(1), &why), AddResult::kRejectedInvalid);
+  EXPECT_NE(why.find("~layout_file is not set"), std::string::npos) << why;
+}
+
+TEST(AdapterCones, StampsOlderThanTheBufferAreDroppedAndCounted) {
+  Tracking t;
+  std::string why;
+  const cone_tracker::ConeObservations old = t.Frame(1);
+  t.Frame(14);  // the IMU up to 0.47 s: frame 1 (0.033 s) is now older than max_delay_s
+  EXPECT_EQ(t.adapter.HandleObservations(old, &why), AddResult::kDroppedLate);
+  EXPECT_EQ(why, "cone_tracker/observations: observations older than max_delay_s (or the filter's start)");
+  EXPECT_EQ(t.adapter.buffer().counters().dropped_late, 1u);
+  EXPECT_EQ(t.adapter.buffer().counters().cones_applied, 0u);
+  // Before the first pose: not fused (a pose starts the filter), counted.
+  pose_ekf::PoseEkfAdapter fresh{WithLayout()};
+  EXPECT_EQ(fresh.HandleObservations(old, &why), AddResult::kWaitingForCamera);
+  EXPECT_EQ(fresh.buffer().counters().cone_frames_before_start, 1u);
+}
+
+}  // namespace
+}  // namespace pose_ekf_test
