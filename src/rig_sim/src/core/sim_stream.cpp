@@ -53,6 +53,14 @@ bool SimStream::Next(SimEvent* e) {
 }
 
 void SimStream::RenderFrame(const SimEvent& ev, uint8_t* rgb, int16_t* labels) const {
+  const AppearanceConfig& a = scenario_.render.appearance;
+  if (a.exposure_time_s > 0.0 && a.blur_samples > 1) {  // motion blur: the poses while the shutter is open
+    std::vector<TruePose> poses;
+    for (int k = 0; k < a.blur_samples; ++k)
+      poses.push_back(trajectory_.At(ev.stamp_s + a.exposure_time_s * ((k + 0.5) / a.blur_samples - 0.5)));
+    renderer_.RenderExposure(poses, ev.stamp_s, ev.index, rgb, labels);
+    return;
+  }
   renderer_.Render(ev.pose, ev.stamp_s, ev.index, rgb, labels);
 }
 
