@@ -24,6 +24,7 @@ struct Scenario {
   TrajectoryConfig trajectory;
   ImuConfig imu;
   RenderConfig render;
+  RenderConfig base_render;  // `render` before any look: the scenario's own lighting and noise
 };
 
 struct ScenarioInfo {
@@ -40,7 +41,8 @@ bool MakeScenario(const std::string& name, uint64_t seed, const std::string& lay
 // Looks: named presets of the lighting, the appearance and the image noise (RenderConfig).
 // "plain" (every scenario's default but `realistic`) renders exactly what rig_sim always rendered.
 const std::vector<ScenarioInfo>& ListLooks();
-// Applies look `name` to s->render (on top of the scenario's own lighting) and records it in s->look.
+// Sets s->render to look `name` over the scenario's own settings (s->base_render: a look replaces
+// the previous one, "plain" restores them) and records it in s->look.
 // Returns false with a message naming the known looks on an unknown name.
 bool ApplyLook(const std::string& name, Scenario* s, std::string* error);
 

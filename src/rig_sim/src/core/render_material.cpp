@@ -129,7 +129,7 @@ float Materials::ConeDirt(int i, const Eigen::Vector3d& q, double f) const {
   const float mottle =
       0.65f * ValueNoise3(q, 0.03, dirt_seed_ + 2 * i) + 0.35f * ValueNoise3(q, 0.10, dirt_seed_ + 2 * i + 1);
   const float low = static_cast<float>(std::clamp(1.0 - f, 0.0, 1.0));
-  const float dirt = cone_weathering_[i] * (0.45f + 0.55f * low * low) * (0.35f + 1.3f * mottle);
+  const float dirt = cone_weathering_[i] * (0.55f + 0.8f * low * low) * (0.15f + 1.7f * mottle);
   return std::clamp(dirt, 0.0f, 1.0f);
 }
 
@@ -150,8 +150,8 @@ Eigen::Vector3f Materials::ConeAlbedo(const Prim& p, const Eigen::Vector3d& q, b
     return albedo * (1.0f - 0.6f * dirt) + Eigen::Vector3f(0.22f, 0.19f, 0.15f) * (0.6f * dirt);
   // Faded and dirty orange: less saturated (toward its own luminance), darker, hue toward brown.
   const float lum = 0.2126f * albedo.x() + 0.7152f * albedo.y() + 0.0722f * albedo.z();
-  albedo = albedo * (1.0f - 0.45f * dirt) + Eigen::Vector3f::Constant(lum) * (0.45f * dirt);
-  return albedo * (1.0f - 0.55f * dirt) + Eigen::Vector3f(0.16f, 0.09f, 0.04f) * (0.55f * dirt);
+  albedo = albedo * (1.0f - 0.5f * dirt) + Eigen::Vector3f::Constant(lum) * (0.5f * dirt);
+  return albedo * (1.0f - 0.7f * dirt) + Eigen::Vector3f(0.12f, 0.07f, 0.035f) * (0.7f * dirt);
 }
 
 Eigen::Vector3f Materials::PersonAlbedo(double z, double h, bool* reflective) const {

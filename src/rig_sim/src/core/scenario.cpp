@@ -52,6 +52,9 @@ const std::vector<ScenarioInfo>& ListLooks() {
 }
 
 bool ApplyLook(const std::string& name, Scenario* s, std::string* error) {
+  const bool known =
+      std::any_of(ListLooks().begin(), ListLooks().end(), [&](const ScenarioInfo& i) { return i.name == name; });
+  if (known) s->render = s->base_render;
   LightingConfig& l = s->render.lighting;
   AppearanceConfig& a = s->render.appearance;
   auto sunny = [&](double elevation_deg) {
@@ -167,6 +170,7 @@ bool MakeScenario(const std::string& name, uint64_t seed, const std::string& lay
   t.seed = seed;
   s.imu.seed = seed * 0x9E3779B97F4A7C15ull + 1;
   s.render.seed = seed * 0xC2B2AE3D27D4EB4Full + 2;
+  s.base_render = s.render;
   if (name == "realistic" && !ApplyLook("realistic", &s, error)) return false;
   *out = s;
   return true;
