@@ -242,6 +242,34 @@ struct Renderer::Impl {
       const int8_t* row_noise = &noise[(noise_offset + 3u * static_cast<uint32_t>(v) * width) & kNoiseMask];
       for (int tx = 0; tx < tiles_x; ++tx) {
         const int tile = ty * tiles_x + tx;
+        if (!look && n == 1) {  // the plain look renders most frames: the tight loop, without the look's branches
+          const std::vector<const Prim*>& list = passes[0].lists[tile];
+          const Eigen::Matrix3f& R = passes[0].R;
+          const Eigen::Vector3f& o = passes[0].o;
+          for (int u = tx * kTile; u < std::min(width, (tx + 1) * kTile); ++u) {
+            const size_t i = static_cast<size_t>(v) * width + u;
+            int16_t label = kLabelGround;
+            Eigen::Vector3f radiance;
+            const Eigen::Vector3f& r = rays_f[i];
+            const float dz = R(2, 0) * r.x() + R(2, 1) * r.y() + R(2, 2) * r.z();
+            if (list.empty() && dz < 0.0f) {  // no object near this tile's rays: bare ground
+              const float t = -o.z() / dz;
+              const float x = o.x() + t * (R(0, 0) * r.x() + R(0, 1) * r.y() + R(0, 2) * r.z());
+              const float y = o.y() + t * (R(1, 0) * r.x() + R(1, 1) * r.y() + R(1, 2) * r.z());
+              radiance = materials.ShadeGround(x, y, t * norms_f[i], light);
+            } else if (list.empty()) {  // and no object: sky
+              radiance = materials.ShadeSky(dz / norms_f[i], light);
+              label = kLabelSky;
+            } else {
+              radiance = ShadePixel(passes[0].pose, light, list, i, nullptr, &label);
+            }
+            row_radiance[3 * u] = radiance[0] * exposure;
+            row_radiance[3 * u + 1] = radiance[1] * exposure;
+            row_radiance[3 * u + 2] = radiance[2] * exposure;
+            if (labels) labels[i] = label;
+          }
+          continue;
+        }
         for (int u = tx * kTile; u < std::min(width, (tx + 1) * kTile); ++u) {
           const size_t i = static_cast<size_t>(v) * width + u;
           int16_t label = kLabelGround;
