@@ -51,7 +51,7 @@ clean:
 # `make bags` regenerates the full-size scenario set into rosbags/full/ (ignored by git) and runs the
 # validator on each; `make sample_bags` regenerates the small committed samples in rosbags/.
 .PHONY: bags sample_bags
-RIG_SIM_SCENARIOS := handheld still shake look_away clutter stacked indoor realistic
+RIG_SIM_SCENARIOS := handheld still shake look_away clutter stacked indoor
 bags: build
 	@mkdir -p $(ROOT)/rosbags/full
 	@$(ENV) && for s in $(RIG_SIM_SCENARIOS); do \
