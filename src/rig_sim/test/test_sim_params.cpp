@@ -19,6 +19,7 @@ std::string Error(const std::string& ns, SimPublisherConfig* c = nullptr) {
 TEST(SimPublisherParams, ReadsEveryParameter) {
   ros::NodeHandle nh("~every");
   nh.setParam("scenario", "look_away");
+  nh.setParam("look", "low_sun");
   nh.setParam("seed", 7);
   nh.setParam("image_scale", 0.5);
   nh.setParam("duration_s", 3);  // an integer where a double is wanted
@@ -30,10 +31,11 @@ TEST(SimPublisherParams, ReadsEveryParameter) {
   nh.setParam("serial_pty", true);
   nh.setParam("serial_link", "/tmp/link");
   nh.setParam("layouts_dir", "/tmp/layouts");
-  EXPECT_EQ(SimPublisherParams().Names().size(), 12u);
+  EXPECT_EQ(SimPublisherParams().Names().size(), 13u);
   SimPublisherConfig c;
   ASSERT_EQ(Error("~every", &c), "");
   EXPECT_EQ(c.scenario, "look_away");
+  EXPECT_EQ(c.look, "low_sun");
   EXPECT_EQ(c.seed, 7);
   EXPECT_DOUBLE_EQ(c.image_scale, 0.5);
   EXPECT_DOUBLE_EQ(c.duration_s, 3.0);
@@ -52,6 +54,12 @@ TEST(SimPublisherParams, DefaultLayoutsAreRigModels) {
   ASSERT_EQ(Error("~defaults", &c), "");
   EXPECT_EQ(c.layouts_dir, RIG_SIM_LAYOUTS_DIR);
   EXPECT_EQ(c.seed, 1);
+}
+
+TEST(SimPublisherParams, RefusesAnUnknownLookNamingTheKnownOnes) {
+  ros::NodeHandle("~bad_look").setParam("look", "foggy");
+  const std::string e = Error("~bad_look");
+  EXPECT_NE(e.find("~look: unknown look 'foggy'; known: plain sunny"), std::string::npos) << e;
 }
 
 TEST(SimPublisherParams, RefusesAWrongTypeNamingIt) {
@@ -73,10 +81,11 @@ TEST(SimPublisherParams, StillRefusesOutOfRangeValues) {
 
 TEST(SimPublisherParams, EveryShippedLaunchParameterLoads) {
   int i = 0;
-  for (const std::string& file :
-       {std::string(RIG_SIM_DIR) + "/launch/sim.launch", std::string(RIG_SIM_DIR) + "/../../launch/sim.launch"}) {
+  // rig_sim's own sim.launch also passes ~look; the root one leaves it to the scenario.
+  for (const auto& [file, count] : {std::make_pair(std::string(RIG_SIM_DIR) + "/launch/sim.launch", 10u),
+                                    std::make_pair(std::string(RIG_SIM_DIR) + "/../../launch/sim.launch", 9u)}) {
     const auto params = rig_model::LaunchParams(file, "sim_node");
-    EXPECT_EQ(params.size(), 9u) << file;
+    EXPECT_EQ(params.size(), count) << file;
     const std::string ns = "~launch" + std::to_string(i++);
     rig_model::SetLaunchParams(ros::NodeHandle(ns), params);
     for (const auto& p : params) {

@@ -17,12 +17,14 @@ namespace rig_sim {
 struct Scenario {
   std::string name;
   std::string description;
-  std::string layout;  // file name in the layouts directory
+  std::string layout;          // file name in the layouts directory
+  std::string look = "plain";  // ListLooks(): how the world and the camera look
   Scene scene;
   CameraConfig camera;
   TrajectoryConfig trajectory;
   ImuConfig imu;
   RenderConfig render;
+  RenderConfig base_render;  // `render` before any look: the scenario's own lighting and noise
 };
 
 struct ScenarioInfo {
@@ -35,6 +37,14 @@ const std::vector<ScenarioInfo>& ListScenarios();
 // Returns false with a message on an unknown name or a bad layout.
 bool MakeScenario(const std::string& name, uint64_t seed, const std::string& layouts_dir, Scenario* out,
                   std::string* error);
+
+// Looks: named presets of the lighting, the appearance and the image noise (RenderConfig).
+// "plain" (every scenario's default but `realistic`) renders exactly what rig_sim always rendered.
+const std::vector<ScenarioInfo>& ListLooks();
+// Sets s->render to look `name` over the scenario's own settings (s->base_render: a look replaces
+// the previous one, "plain" restores them) and records it in s->look.
+// Returns false with a message naming the known looks on an unknown name.
+bool ApplyLook(const std::string& name, Scenario* s, std::string* error);
 
 // The scenario with a shorter duration and/or a smaller image (for samples and tests).
 void ShortenScenario(double duration_s, double image_scale, Scenario* s);

@@ -36,7 +36,10 @@ class SimStream {
   SimStream(const Scenario& scenario, const StreamConfig& config);
   // The next event in delivery order; false after the scenario's end.
   bool Next(SimEvent* event);
-  // Renders camera frame `index` into rgb (width*height*3 bytes) and optionally labels.
+  // Renders camera frame `index` into rgb (width*height*3 bytes) and optionally labels. With the
+  // appearance's exposure_time_s > 0 and blur_samples > 1, the frame is the mean over poses of the
+  // trajectory spread evenly over the exposure, centred on the stamp (motion blur): an odd number,
+  // one per ~2 px of image motion, at most blur_samples; one when the image moves < 0.25 px.
   void RenderFrame(const SimEvent& image_event, uint8_t* rgb, int16_t* labels = nullptr) const;
   const Scenario& scenario() const { return scenario_; }
   const Trajectory& trajectory() const { return trajectory_; }

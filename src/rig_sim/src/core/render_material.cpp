@@ -27,7 +27,57 @@ void AddValueNoise(std::vector<float>* tex, int size, int period, float amplitud
     }
 }
 
+uint64_t Mix(uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+// Uniform in [0, 1) from a hash.
+float Unit(uint64_t h) { return static_cast<float>(h >> 40) * (1.0f / 16777216.0f); }
+
+// Trilinear value noise in [0, 1) on a lattice of `cell_m`.
+float ValueNoise3(const Eigen::Vector3d& p, double cell_m, uint64_t seed) {
+  const Eigen::Vector3d f = p / cell_m + Eigen::Vector3d::Constant(4096.0);
+  const int64_t ix = static_cast<int64_t>(f.x()), iy = static_cast<int64_t>(f.y()), iz = static_cast<int64_t>(f.z());
+  const float ax = static_cast<float>(f.x() - ix), ay = static_cast<float>(f.y() - iy),
+              az = static_cast<float>(f.z() - iz);
+  auto at = [&](int64_t i, int64_t j, int64_t k) {
+    return Unit(Mix(seed ^ Mix(static_cast<uint64_t>(i) * 73856093ull ^ static_cast<uint64_t>(j) * 19349663ull ^
+                               static_cast<uint64_t>(k) * 83492791ull)));
+  };
+  float v = 0.0f;
+  for (int dk = 0; dk < 2; ++dk)
+    for (int dj = 0; dj < 2; ++dj)
+      for (int di = 0; di < 2; ++di)
+        v += (di ? ax : 1 - ax) * (dj ? ay : 1 - ay) * (dk ? az : 1 - az) * at(ix + di, iy + dj, iz + dk);
+  return v;
+}
+
 }  // namespace
+
+bool AppearanceConfig::Active() const {
+  return shadows || sun_colour != Eigen::Vector3d::Ones() || sky_colour != Eigen::Vector3d::Ones() ||
+         cone_weathering != 0.0 || white_balance_gain != Eigen::Vector3d::Ones() || white_balance_drift != 0.0 ||
+         exposure_drift != 0.0 || shot_noise != 0.0 || vignetting != 0.0 || exposure_time_s != 0.0 || blur_samples != 1;
+}
+
+std::string AppearanceConfig::Validate() const {
+  auto colour_ok = [](const Eigen::Vector3d& c) { return c.minCoeff() >= 0.0 && c.maxCoeff() <= 4.0; };
+  if (!colour_ok(sun_colour)) return "sun_colour: each channel must be in [0, 4]";
+  if (!colour_ok(sky_colour)) return "sky_colour: each channel must be in [0, 4]";
+  if (!colour_ok(white_balance_gain)) return "white_balance_gain: each channel must be in [0, 4]";
+  if (!(cone_weathering >= 0.0 && cone_weathering <= 1.0)) return "cone_weathering must be in [0, 1]";
+  if (!(white_balance_drift >= 0.0 && white_balance_drift < 1.0)) return "white_balance_drift must be in [0, 1)";
+  if (!(exposure_drift >= 0.0 && exposure_drift < 1.0)) return "exposure_drift must be in [0, 1)";
+  if (!(drift_period_s > 0.0)) return "drift_period_s must be positive";
+  if (!(shot_noise >= 0.0 && shot_noise <= 100.0)) return "shot_noise must be in [0, 100]";
+  if (!(vignetting >= 0.0 && vignetting < 1.0)) return "vignetting must be in [0, 1)";
+  if (!(exposure_time_s >= 0.0 && exposure_time_s <= 0.1)) return "exposure_time_s must be in [0, 0.1] s";
+  if (blur_samples < 1 || blur_samples > 64) return "blur_samples must be in [1, 64]";
+  return "";
+}
 
 Materials::Materials(const Scene& scene, const RenderConfig& config)
     : cones_(scene.cones), platforms_(scene.platforms), ground_(scene.ground), lighting_(config.lighting) {
@@ -46,6 +96,13 @@ Materials::Materials(const Scene& scene, const RenderConfig& config)
   macro_.assign(macro_size * macro_size, 1.0f);
   AddValueNoise(&macro_, macro_size, 16, 0.25f, &rng);
   AddValueNoise(&macro_, macro_size, 4, 0.1f, &rng);
+  const AppearanceConfig& a = config.appearance;
+  look_ = a.Active();
+  sun_colour_ = a.sun_colour.cast<float>();
+  sky_colour_ = a.sky_colour.cast<float>();
+  dirt_seed_ = Mix(config.seed ^ 0x6469727479ull);
+  for (size_t i = 0; i < cones_.size(); ++i)  // each cone its own share of the weathering
+    cone_weathering_.push_back(static_cast<float>(a.cone_weathering) * (0.4f + 0.6f * Unit(Mix(dirt_seed_ + i))));
   for (int i = 0; i < kLutSize; ++i) {
     const double x = std::min(1.0, i / static_cast<double>(kLutScale));
     const double s = x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
@@ -67,16 +124,34 @@ Lighting Materials::LightingAt(double t) const {
   return l;
 }
 
-Eigen::Vector3f Materials::ConeAlbedo(const Prim& p, double z, bool* reflective) const {
+float Materials::ConeDirt(int i, const Eigen::Vector3d& q, double f) const {
+  // Mottled at ~3 cm and ~10 cm, heavier toward the base (splashes from the road).
+  const float mottle =
+      0.65f * ValueNoise3(q, 0.03, dirt_seed_ + 2 * i) + 0.35f * ValueNoise3(q, 0.10, dirt_seed_ + 2 * i + 1);
+  const float low = static_cast<float>(std::clamp(1.0 - f, 0.0, 1.0));
+  const float dirt = cone_weathering_[i] * (0.55f + 0.8f * low * low) * (0.15f + 1.7f * mottle);
+  return std::clamp(dirt, 0.0f, 1.0f);
+}
+
+Eigen::Vector3f Materials::ConeAlbedo(const Prim& p, const Eigen::Vector3d& q, bool* reflective) const {
   const ConeSpec& c = cones_[p.cone_index];
-  const double f = (z - c.base_m.z()) / c.height_m;
+  const double f = (q.z() - c.base_m.z()) / c.height_m;
+  Eigen::Vector3f albedo = p.albedo;
+  *reflective = false;
   for (const auto& band : c.collars)
     if (f >= band.first && f <= band.second) {
       *reflective = true;
-      return Eigen::Vector3f(0.80f, 0.80f, 0.78f);
+      albedo = Eigen::Vector3f(0.80f, 0.80f, 0.78f);
+      break;
     }
-  *reflective = false;
-  return p.albedo;
+  if (!look_ || cone_weathering_[p.cone_index] <= 0.0f) return albedo;
+  const float dirt = ConeDirt(p.cone_index, q, f);
+  if (*reflective)  // grimy collars: grey-brown
+    return albedo * (1.0f - 0.6f * dirt) + Eigen::Vector3f(0.22f, 0.19f, 0.15f) * (0.6f * dirt);
+  // Faded and dirty orange: less saturated (toward its own luminance), darker, hue toward brown.
+  const float lum = 0.2126f * albedo.x() + 0.7152f * albedo.y() + 0.0722f * albedo.z();
+  albedo = albedo * (1.0f - 0.5f * dirt) + Eigen::Vector3f::Constant(lum) * (0.5f * dirt);
+  return albedo * (1.0f - 0.7f * dirt) + Eigen::Vector3f(0.12f, 0.07f, 0.035f) * (0.7f * dirt);
 }
 
 Eigen::Vector3f Materials::PersonAlbedo(double z, double h, bool* reflective) const {
@@ -106,7 +181,7 @@ Eigen::Vector3f Materials::PlatformAlbedo(const Prim& prim, const Eigen::Vector3
 }
 
 Eigen::Vector3f Materials::Shade(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double inv_norm_d, const Hit& hit,
-                                 const Prim* decal, const Lighting& light, int16_t* label) const {
+                                 const Prim* decal, const Lighting& light, int16_t* label, float sun_visible) const {
   const Eigen::Vector3d dn = d * inv_norm_d;
   if (hit.prim == nullptr && d.z() >= 0.0) {
     *label = kLabelSky;
@@ -131,7 +206,7 @@ Eigen::Vector3f Materials::Shade(const Eigen::Vector3d& o, const Eigen::Vector3d
     *label = hit.prim->label;
     switch (hit.prim->kind) {
       case PrimKind::kCone:
-        albedo = ConeAlbedo(*hit.prim, p.z(), &reflective);
+        albedo = ConeAlbedo(*hit.prim, p, &reflective);
         shine = 0.25f;
         break;
       case PrimKind::kCylinder:
@@ -146,6 +221,17 @@ Eigen::Vector3f Materials::Shade(const Eigen::Vector3d& o, const Eigen::Vector3d
   const float lambert = static_cast<float>(std::max(0.0, n.dot(light.sun_dir)));
   // Sky light on a tilted surface: the visible fraction of the sky hemisphere.
   const float sky = light.ambient * static_cast<float>(0.5 + 0.5 * n.z());
+  if (look_) {  // coloured sun and sky, cast shadows
+    const float sun = light.sun * lambert * sun_visible;
+    Eigen::Vector3f radiance = albedo.cwiseProduct(sun_colour_ * sun + sky_colour_ * (sky + 0.05f));
+    if (shine > 0.0f || reflective) {
+      const Eigen::Vector3d r = dn - 2.0 * dn.dot(n) * n;
+      const float spec = static_cast<float>(std::pow(std::max(0.0, r.dot(light.sun_dir)), 24.0));
+      radiance += sun_colour_ * ((shine + (reflective ? 0.3f : 0.0f)) * light.sun * sun_visible * spec);
+      if (reflective) radiance += albedo * 0.25f * static_cast<float>(std::max(0.0, -dn.dot(n)));
+    }
+    return Haze(radiance, hit.t / inv_norm_d, light);
+  }
   Eigen::Vector3f radiance = albedo * (light.sun * lambert + sky + 0.05f);
   if (shine > 0.0f || reflective) {
     const Eigen::Vector3d r = dn - 2.0 * dn.dot(n) * n;  // mirror direction

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -29,10 +30,19 @@ class Materials {
   Lighting LightingAt(double t_s) const;
   // Linear radiance seen along d (not unit) from o for the given hit.
   // inv_norm_d = 1 / |d| (precomputed per pixel, since |d| does not change with the pose).
+  // sun_visible: 1 in the sun, 0 in a cast shadow (used only with an active AppearanceConfig).
   Eigen::Vector3f Shade(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double inv_norm_d, const Hit& hit,
-                        const Prim* decal, const Lighting& light, int16_t* label) const;
+                        const Prim* decal, const Lighting& light, int16_t* label, float sun_visible = 1.0f) const;
   // Fast path for the commonest pixel, bare ground lit by `light` at point (x, y) and range r.
   Eigen::Vector3f ShadeGround(double x_m, double y_m, double range_m, const Lighting& light) const;
+  // The same under an active AppearanceConfig: coloured sun and sky light, a cast shadow.
+  Eigen::Vector3f ShadeGroundLook(double x_m, double y_m, double range_m, const Lighting& light,
+                                  float sun_visible) const {
+    const float sun = light.sun * static_cast<float>(std::max(0.0, light.sun_dir.z())) * sun_visible;
+    const Eigen::Vector3f lit = sun_colour_ * sun + sky_colour_ * (light.ambient + 0.05f);
+    return Haze(GroundAlbedo(x_m, y_m).cwiseProduct(lit), range_m, light);
+  }
+  bool look() const { return look_; }
   // Sky seen along a direction whose unit vector has vertical component up_z >= 0.
   Eigen::Vector3f ShadeSky(float up_z, const Lighting& light) const {
     const float up = std::min(1.0f, 2.0f * up_z);
@@ -41,12 +51,18 @@ class Materials {
   }
   // A row of linear radiances (3 per pixel) -> sRGB 8-bit values plus noise (may be null).
   // Split into simple loops so the compiler vectorises all but the table lookup.
-  void EncodeRow(const float* linear, const int8_t* noise, int count, int16_t* scratch, uint8_t* out) const {
+  // shot_noise > 0 scales each noise sample by sqrt(1 + shot_noise * DN / 255) (AppearanceConfig).
+  void EncodeRow(const float* linear, const int8_t* noise, int count, int16_t* scratch, uint8_t* out,
+                 float shot_noise = 0.0f) const {
     const float top = static_cast<float>(kLutSize - 1);
     for (int k = 0; k < count; ++k)  // clamped both ways, so a bad lighting config cannot index outside lut_
       scratch[k] = static_cast<int16_t>(std::min(std::max(linear[k] * kLutScale, 0.0f), top));
     for (int k = 0; k < count; ++k) scratch[k] = lut_[scratch[k]];
-    if (noise)
+    if (noise && shot_noise > 0.0f)
+      for (int k = 0; k < count; ++k)
+        scratch[k] = static_cast<int16_t>(
+            scratch[k] + std::lround(noise[k] * std::sqrt(1.0f + shot_noise * scratch[k] * (1.0f / 255.0f))));
+    else if (noise)
       for (int k = 0; k < count; ++k) scratch[k] = static_cast<int16_t>(scratch[k] + noise[k]);
     for (int k = 0; k < count; ++k) out[k] = static_cast<uint8_t>(std::clamp<int16_t>(scratch[k], 0, 255));
   }
@@ -59,7 +75,9 @@ class Materials {
   float Texture(double x_m, double y_m) const;
   Eigen::Vector3f GroundAlbedo(double x_m, double y_m) const;
   Eigen::Vector3f Haze(const Eigen::Vector3f& radiance, double range_m, const Lighting& light) const;
-  Eigen::Vector3f ConeAlbedo(const Prim& p, double z_m, bool* reflective) const;
+  Eigen::Vector3f ConeAlbedo(const Prim& p, const Eigen::Vector3d& hit_m, bool* reflective) const;
+  // Dirt on cone i at a point of its surface: its weathering there, in [0, 1].
+  float ConeDirt(int cone_index, const Eigen::Vector3d& hit_m, double height_fraction) const;
   Eigen::Vector3f PersonAlbedo(double z_m, double height_m, bool* reflective) const;
   Eigen::Vector3f PlatformAlbedo(const Prim& p, const Eigen::Vector3d& hit_m, const Eigen::Vector3d& normal) const;
 
@@ -67,6 +85,10 @@ class Materials {
   std::vector<PlatformSpec> platforms_;
   GroundStyle ground_;
   LightingConfig lighting_;
+  bool look_ = false;  // an AppearanceConfig other than the default
+  Eigen::Vector3f sun_colour_ = Eigen::Vector3f::Ones(), sky_colour_ = Eigen::Vector3f::Ones();
+  std::vector<float> cone_weathering_;  // per cone
+  uint64_t dirt_seed_ = 0;
   std::vector<uint8_t> texture_;
   std::vector<float> macro_;
   uint8_t lut_[kLutSize];

@@ -28,8 +28,88 @@ const std::vector<ScenarioInfo>& ListScenarios() {
        "person in hi-vis, with stronger lighting changes"},
       {"stacked", "20 s around stacked cones on concrete"},
       {"indoor", "20 s around the thesis's three 4\" plain cones at 0.5-1.2 m, indoors"},
+      {"realistic",
+       "the handheld walk (60 s) around three mixed road cones (one wide European sleeve, two US "
+       "two-band collars) in the realistic look: sun and cloud with cast shadows, weathered cones, "
+       "white balance and exposure hunting, shot noise, vignetting, motion blur"},
   };
   return list;
+}
+
+const std::vector<ScenarioInfo>& ListLooks() {
+  static const std::vector<ScenarioInfo> list = {
+      {"plain", "clean cones, no cast shadows, a steady camera (what rig_sim always rendered)"},
+      {"sunny", "a clear day: cast shadows, bluish sky light, a bright sun at 45 deg"},
+      {"overcast", "thick cloud: almost no direct sun, flat bright sky light, faint shadows"},
+      {"low_sun", "evening sun at 10 deg: warm light, long cast shadows, blue shade"},
+      {"weathered", "faded, dirty, mottled cones with grey collars (lighting as the scenario's)"},
+      {"camera",
+       "the camera's faults only: white balance and exposure hunting, shot noise, vignetting, "
+       "6 ms motion blur"},
+      {"realistic", "all of it: sun and passing cloud with cast shadows, weathered cones, the camera's faults"},
+  };
+  return list;
+}
+
+bool ApplyLook(const std::string& name, Scenario* s, std::string* error) {
+  const bool known =
+      std::any_of(ListLooks().begin(), ListLooks().end(), [&](const ScenarioInfo& i) { return i.name == name; });
+  if (known) s->render = s->base_render;
+  LightingConfig& l = s->render.lighting;
+  AppearanceConfig& a = s->render.appearance;
+  auto sunny = [&](double elevation_deg) {
+    a.shadows = true;
+    l.sun_elevation_deg = elevation_deg;
+    l.sun_irradiance = 1.0;
+    l.ambient = 0.25;
+    a.sun_colour = Eigen::Vector3d(1.0, 0.96, 0.88);
+    a.sky_colour = Eigen::Vector3d(0.80, 0.92, 1.20);
+  };
+  auto weathered = [&](double amount) { a.cone_weathering = amount; };
+  auto camera = [&]() {
+    a.white_balance_gain = Eigen::Vector3d(1.06, 1.0, 0.92);
+    a.white_balance_drift = 0.08;
+    a.exposure_drift = 0.3;
+    a.shot_noise = 4.0;
+    s->render.noise_sigma_dn = 2.5;
+    a.vignetting = 0.3;
+    a.exposure_time_s = 0.006;
+    a.blur_samples = 5;
+  };
+  if (name == "plain") {
+  } else if (name == "sunny") {
+    sunny(45.0);
+  } else if (name == "overcast") {
+    a.shadows = true;
+    l.sun_irradiance = 0.08;
+    l.ambient = 0.75;
+    l.variation = 0.05;
+    a.sky_colour = Eigen::Vector3d(0.95, 0.98, 1.05);
+  } else if (name == "low_sun") {
+    sunny(10.0);
+    l.sun_irradiance = 1.1;
+    l.ambient = 0.18;
+    a.sun_colour = Eigen::Vector3d(1.0, 0.68, 0.38);
+    a.sky_colour = Eigen::Vector3d(0.65, 0.82, 1.30);
+  } else if (name == "weathered") {
+    weathered(0.8);
+  } else if (name == "camera") {
+    camera();
+  } else if (name == "realistic") {
+    sunny(32.0);
+    l.sun_irradiance = 0.85;
+    l.variation = 0.7;  // passing cloud: the sun between ~0.3 and ~1.7 of its mean
+    l.variation_period_s = 21.0;
+    weathered(0.6);
+    camera();
+  } else {
+    std::string names;
+    for (const auto& i : ListLooks()) names += " " + i.name;
+    if (error) *error = "unknown look '" + name + "'; known:" + names;
+    return false;
+  }
+  s->look = name;
+  return true;
 }
 
 bool MakeScenario(const std::string& name, uint64_t seed, const std::string& layouts_dir, Scenario* out,
@@ -62,6 +142,11 @@ bool MakeScenario(const std::string& name, uint64_t seed, const std::string& lay
     t.duration_s = 20.0;
     s.layout = "stacked.yaml";
     t.segments = {Still(-1.0, 3.0)};
+  } else if (name == "realistic") {
+    t.duration_s = 60.0;
+    s.layout = "realistic.yaml";
+    t.segments = {Still(-1.0, 4.5), Shake(14.0, 3.0, 7.0, 3.0), LookAway(24.0, 6.4, 100.0), Still(38.0, 4.0),
+                  Shake(48.0, 2.5, 6.0, 4.0)};
   } else if (name == "indoor") {
     t.duration_s = 20.0;
     s.layout = "thesis_indoor.yaml";
@@ -85,6 +170,8 @@ bool MakeScenario(const std::string& name, uint64_t seed, const std::string& lay
   t.seed = seed;
   s.imu.seed = seed * 0x9E3779B97F4A7C15ull + 1;
   s.render.seed = seed * 0xC2B2AE3D27D4EB4Full + 2;
+  s.base_render = s.render;
+  if (name == "realistic" && !ApplyLook("realistic", &s, error)) return false;
   *out = s;
   return true;
 }

@@ -1,7 +1,10 @@
 #include "rig_sim/sim_stream.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
+
+#include <Eigen/Geometry>
 
 namespace rig_sim {
 
@@ -53,6 +56,25 @@ bool SimStream::Next(SimEvent* e) {
 }
 
 void SimStream::RenderFrame(const SimEvent& ev, uint8_t* rgb, int16_t* labels) const {
+  const AppearanceConfig& a = scenario_.render.appearance;
+  if (a.exposure_time_s > 0.0 && a.blur_samples > 1) {  // motion blur: the poses while the shutter is open
+    // How far the image moves during the exposure (px): the rotation, and the translation as seen at
+    // 1 m. One pose per ~2 px of motion (odd, so the middle pose is the stamp's), at most blur_samples:
+    // a still rig costs one render.
+    const TruePose first = trajectory_.At(ev.stamp_s - 0.5 * a.exposure_time_s);
+    const TruePose last = trajectory_.At(ev.stamp_s + 0.5 * a.exposure_time_s);
+    const double angle_rad = Eigen::AngleAxisd(first.R_cones_camera.transpose() * last.R_cones_camera).angle();
+    const double shift_m = (last.p_camera_in_cones_m - first.p_camera_in_cones_m).norm();
+    const double motion_px = scenario_.camera.model.fx_px * (angle_rad + shift_m / 1.0);
+    const int n = motion_px < 0.25 ? 1 : std::min(a.blur_samples, 2 * static_cast<int>(std::ceil(motion_px / 4.0)) + 1);
+    if (n > 1) {
+      std::vector<TruePose> poses;
+      for (int k = 0; k < n; ++k)
+        poses.push_back(trajectory_.At(ev.stamp_s + a.exposure_time_s * ((k + 0.5) / n - 0.5)));
+      renderer_.RenderExposure(poses, ev.stamp_s, ev.index, rgb, labels);
+      return;
+    }
+  }
   renderer_.Render(ev.pose, ev.stamp_s, ev.index, rgb, labels);
 }
 

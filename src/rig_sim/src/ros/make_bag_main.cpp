@@ -20,17 +20,22 @@ void Usage() {
       "  --scale F              image scale, e.g. 0.25 for 256x192 (intrinsics scale with it)\n"
       "  --camera-delay-ms MS   deliver each frame MS after its exposure stamp (default 0)\n"
       "  --compression C        none (default), lz4 or bz2\n"
-      "  --noise-sigma DN       image noise (default 2; 0 for none)\n"
+      "  --noise-sigma DN       image noise (default 2, or the look's; 0 for none)\n"
+      "  --look NAME            how the world and the camera look (default: the scenario's, plain\n"
+      "                         for all but realistic); see looks below\n"
       "  --layouts DIR          directory of layout files (default: rig_model's config/layouts)\n"
       "  --layout FILE          use this layout file instead of the scenario's\n\n"
       "scenarios:\n");
   for (const auto& s : rig_sim::ListScenarios()) std::printf("  %-10s %s\n", s.name.c_str(), s.description.c_str());
+  std::printf("\nlooks:\n");
+  for (const auto& s : rig_sim::ListLooks()) std::printf("  %-10s %s\n", s.name.c_str(), s.description.c_str());
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string scenario_name = "handheld", output, layouts = RIG_SIM_LAYOUTS_DIR, layout_file, compression = "none";
+  std::string scenario_name = "handheld", output, layouts = RIG_SIM_LAYOUTS_DIR, layout_file, compression = "none",
+              look;
   uint64_t seed = 1;
   double duration = 0.0, scale = 1.0, delay_ms = 0.0, noise = -1.0;
   for (int i = 1; i < argc; ++i) {
@@ -62,6 +67,8 @@ int main(int argc, char** argv) {
         compression = value();
       else if (a == "--noise-sigma")
         noise = std::stod(value());
+      else if (a == "--look")
+        look = value();
       else if (a == "--layouts")
         layouts = value();
       else if (a == "--layout")
@@ -86,7 +93,8 @@ int main(int argc, char** argv) {
   rig_sim::Scenario scenario;
   std::string err;
   if (!rig_sim::MakeScenario(scenario_name, seed, layouts, &scenario, &err) ||
-      (!layout_file.empty() && !rig_sim::LoadSceneYaml(layout_file, &scenario.scene, &err))) {
+      (!layout_file.empty() && !rig_sim::LoadSceneYaml(layout_file, &scenario.scene, &err)) ||
+      (!look.empty() && !rig_sim::ApplyLook(look, &scenario, &err))) {
     std::fprintf(stderr, "make_bag: %s\n", err.c_str());
     return 1;
   }
@@ -103,11 +111,11 @@ int main(int argc, char** argv) {
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf(
-      "make_bag: %s seed %llu: %.1f s, %llu images %dx%d, %llu IMU, %llu truth -> %s in %.1f s "
+      "make_bag: %s (look %s) seed %llu: %.1f s, %llu images %dx%d, %llu IMU, %llu truth -> %s in %.1f s "
       "(rendering %.1f s)\n",
-      scenario.name.c_str(), static_cast<unsigned long long>(seed), scenario.trajectory.duration_s,
-      static_cast<unsigned long long>(stats.images), scenario.camera.model.width_px, scenario.camera.model.height_px,
-      static_cast<unsigned long long>(stats.imu), static_cast<unsigned long long>(stats.truth), output.c_str(), wall,
-      stats.render_s);
+      scenario.name.c_str(), scenario.look.c_str(), static_cast<unsigned long long>(seed),
+      scenario.trajectory.duration_s, static_cast<unsigned long long>(stats.images), scenario.camera.model.width_px,
+      scenario.camera.model.height_px, static_cast<unsigned long long>(stats.imu),
+      static_cast<unsigned long long>(stats.truth), output.c_str(), wall, stats.render_s);
   return 0;
 }

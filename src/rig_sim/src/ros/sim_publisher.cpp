@@ -12,6 +12,7 @@ const rig_model::ParamTable<SimPublisherConfig>& SimPublisherParams() {
   static const rig_model::ParamTable<C> table =
       rig_model::ParamTable<C>()
           .Add("scenario", [](C& c) -> std::string& { return c.scenario; })
+          .Add("look", [](C& c) -> std::string& { return c.look; })
           .Add("seed", [](C& c) -> int& { return c.seed; })
           .Add("image_scale", [](C& c) -> double& { return c.image_scale; })
           .Add("duration_s", [](C& c) -> double& { return c.duration_s; })
@@ -48,6 +49,10 @@ bool LoadSimPublisherConfig(const ros::NodeHandle& pnh, SimPublisherConfig* c, s
     err = "~camera_delay_ms must be in [0, 1000]";
   else if (!(out.start_time_s > 0.0))
     err = "~start_time_s must be positive";
+  else if (!out.look.empty()) {
+    Scenario probe;
+    if (!ApplyLook(out.look, &probe, &err)) err = "~look: " + err;
+  }
   if (!err.empty()) {
     if (error) *error = err;
     return false;
@@ -64,6 +69,7 @@ SimPublisher::SimPublisher(ros::NodeHandle nh, ros::NodeHandle pnh, const SimPub
   std::string err;
   if (!MakeScenario(config.scenario, static_cast<uint64_t>(config.seed), config.layouts_dir, &scenario_, &err))
     throw std::invalid_argument(err);
+  if (!config.look.empty() && !ApplyLook(config.look, &scenario_, &err)) throw std::invalid_argument("~look: " + err);
   ShortenScenario(config.duration_s, config.image_scale, &scenario_);
   camera_pub_ = it_.advertiseCamera(topics_.image, 2);
   imu_pub_ = nh_.advertise<sensor_msgs::Imu>(topics_.imu, 50);

@@ -11,8 +11,9 @@
 
 namespace {
 constexpr const char* kUsage =
-    "usage: render_frame OUT.png [t_s] [scenario] [seed] [scale]\n"
-    "Renders the frame the simulated camera sees at t_s (default 0) of the scenario (default handheld).\n";
+    "usage: render_frame OUT.png [t_s] [scenario] [seed] [scale] [look]\n"
+    "Renders the frame the simulated camera sees at t_s (default 0) of the scenario (default handheld),\n"
+    "in the given look (default: the scenario's; make_bag --help lists the looks).\n";
 
 int Run(int argc, char** argv) {
   const std::string out = argv[1];
@@ -26,6 +27,10 @@ int Run(int argc, char** argv) {
   rig_sim::Scenario scenario;
   std::string err;
   if (!rig_sim::MakeScenario(name, seed, RIG_SIM_LAYOUTS_DIR, &scenario, &err)) {
+    std::fprintf(stderr, "render_frame: %s\n", err.c_str());
+    return 1;
+  }
+  if (argc > 6 && !rig_sim::ApplyLook(argv[6], &scenario, &err)) {
     std::fprintf(stderr, "render_frame: %s\n", err.c_str());
     return 1;
   }

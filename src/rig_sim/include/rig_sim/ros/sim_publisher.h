@@ -19,6 +19,7 @@ namespace rig_sim {
 
 struct SimPublisherConfig {
   std::string scenario = "handheld";
+  std::string look;  // ListLooks(); empty: the scenario's own
   int seed = 1;
   double image_scale = 1.0;
   double duration_s = 0.0;  // 0: the scenario's own
