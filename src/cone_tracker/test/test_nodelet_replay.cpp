@@ -6,12 +6,14 @@
 #include <ros/ros.h>
 
 #include <cstdio>
+#include <set>
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include "bag_replay.h"
 #include "cone_tracker/ConeDetections.h"
+#include "cone_tracker/ConeObservations.h"
 #include "cone_tracker/node/layout.h"
 #include "handheld_limits.h"
 #include "nodelet_test_util.h"
@@ -22,6 +24,7 @@ namespace {
 struct Listener {
   std::map<uint64_t, geometry_msgs::PoseWithCovarianceStamped> poses;
   std::map<uint64_t, ConeDetections> detections;
+  std::map<uint64_t, ConeObservations> observations;
   visualization_msgs::MarkerArrayConstPtr markers;
   std::map<std::string, std::string> diagnostics;  // the latest "cone_tracker: tracker" values
   std::vector<ros::Subscriber> subs;
@@ -30,6 +33,8 @@ struct Listener {
         "cone_tracker/pose", 100, [this](const auto& m) { poses[m->header.stamp.toNSec()] = *m; }));
     subs.push_back(nh.subscribe<ConeDetections>("cone_tracker/detections", 100,
                                                 [this](const auto& m) { detections[m->header.stamp.toNSec()] = *m; }));
+    subs.push_back(nh.subscribe<ConeObservations>(
+        "cone_tracker/observations", 100, [this](const auto& m) { observations[m->header.stamp.toNSec()] = *m; }));
     subs.push_back(
         nh.subscribe<visualization_msgs::MarkerArray>("cone_tracker/cones", 1, [this](const auto& m) { markers = m; }));
     subs.push_back(nh.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10, [this](const auto& m) {
@@ -97,6 +102,20 @@ TEST(NodeletReplay, HandheldSampleInLockstep) {
     for (const auto& c : d.detections) EXPECT_LT(c.cone_id, int(layout.size()));
   }
   for (const auto& [stamp, p] : listener.poses) EXPECT_EQ(p.header.frame_id, "cones");
+  // Every frame with a pose also gives cone_tracker/observations with the pose's correspondence.
+  EXPECT_TRUE(SpinUntil([&] { return listener.observations.size() >= announced; }, 60.0))
+      << listener.observations.size() << " observations, " << announced << " poses";
+  for (const auto& [stamp, d] : listener.detections) {
+    if (!d.pose_published) continue;
+    const auto o = listener.observations.find(stamp);
+    ASSERT_NE(o, listener.observations.end()) << "no observations for a frame with a pose";
+    std::multiset<int> pose_ids, observed_ids;
+    for (const auto& c : d.detections)
+      if (c.cone_id >= 0) pose_ids.insert(c.cone_id);
+    for (const auto& c : o->second.cones) observed_ids.insert(c.cone_id);
+    EXPECT_EQ(pose_ids, observed_ids);
+    EXPECT_GT(o->second.fx, 0.0);
+  }
 
   // The nodelet's own account of the run (the latencies are wall-clock figures on a shared machine:
   // printed, not asserted).
@@ -104,6 +123,9 @@ TEST(NodeletReplay, HandheldSampleInLockstep) {
   ASSERT_TRUE(SpinUntil([&] { return listener.diagnostics["frames"] == sent; }, 60.0))
       << "frames in /diagnostics: " << listener.diagnostics["frames"];
   EXPECT_EQ(listener.diagnostics["poses published"], std::to_string(listener.poses.size()));
+  EXPECT_GE(std::stoul(listener.diagnostics["observations published"]), listener.observations.size());
+  std::printf("OBSERVATIONS nodelet replay: %zu messages for %zu poses; /diagnostics says %s\n",
+              listener.observations.size(), announced, listener.diagnostics["observations published"].c_str());
   for (const char* key :
        {"processing time mean (ms)", "processing time max (ms)", "cones found (mean per segmented frame)",
         "rejected by chi-square gate", "frames with too few cones"})

@@ -57,7 +57,7 @@ class ConeTrackerNodelet : public nodelet::Nodelet {
   image_transport::Subscriber image_sub_;
   image_transport::Publisher debug_pub_;
   ros::Subscriber info_sub_;
-  ros::Publisher pose_pub_, detections_pub_, markers_pub_;
+  ros::Publisher pose_pub_, detections_pub_, observations_pub_, markers_pub_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   std::unique_ptr<rig_model::WallDiagnostics> diagnostics_;
@@ -128,6 +128,7 @@ void ConeTrackerNodelet::SetUpPublishers(ros::NodeHandle& nh, const NodeConfig& 
   }
   pose_pub_ = nh.advertise<geometry_msgs::PoseWithCovarianceStamped>("cone_tracker/pose", 10);
   detections_pub_ = nh.advertise<ConeDetections>("cone_tracker/detections", 10);
+  observations_pub_ = nh.advertise<ConeObservations>("cone_tracker/observations", 10);
   markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("cone_tracker/cones", 1, /*latch=*/true);
   markers_pub_.publish(
       boost::make_shared<visualization_msgs::MarkerArray>(MakeLayoutMarkers(layout, config.fixed_frame)));
@@ -201,6 +202,7 @@ void ConeTrackerNodelet::OnImage(const sensor_msgs::ImageConstPtr& msg) {
       pose_pub_.publish(r.pose);
       latency_ms_.Add((ros::Time::now() - msg->header.stamp).toSec() * 1e3);
     }
+    if (r.observations) observations_pub_.publish(r.observations);
     if (r.detections) detections_pub_.publish(r.detections);
     if (debug_pub_.getNumSubscribers() > 0 && r.status != FrameStatus::kUnsupportedEncoding &&
         r.status != FrameStatus::kBadImage) {
@@ -263,6 +265,15 @@ void ConeTrackerNodelet::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("rejected by chi-square gate", c.rejected_chi2);
   stat.add("rejected by motion gate", c.rejected_motion);
   stat.add("pose solver failures", c.solver_failed);
+  stat.add("observations published", c.observation_msgs);
+  stat.add("observed cones (mean per observation)",
+           c.observation_msgs ? double(c.observed_cones_sum) / double(c.observation_msgs) : 0.0);
+  for (const auto& [n_cones, n] : c.observation_msgs_by_cones)
+    stat.add("observations with " + std::to_string(n_cones) + " cone(s)", n);
+  stat.add("detections left unassociated (ambiguous)", c.association_ambiguous);
+  stat.add("frames whose prediction conflicted with a cone (none associated)", c.association_conflicts);
+  stat.add("association/pose correspondence disagreements", c.association_disagreements);
+  stat.add("frames with cones but no prediction or pose (not observed)", c.unobserved_no_prediction);
   for (const auto& [gate, n] : c.blobs_rejected_by_gate) stat.add("blobs rejected by gate " + gate, n);
   stat.add("unsupported encoding frames", c.unsupported_encoding);
   stat.add("bad images", c.bad_image);

@@ -23,6 +23,11 @@ Table MakeTable() {
       .Add("prediction_max_age_s", [](NodeConfig& c) -> double& { return c.prediction_max_age_s; })
       .Add("reacquire_after_s", [](NodeConfig& c) -> double& { return c.reacquire_after_s; })
       .Add("heading_prior_deg", [](NodeConfig& c) -> double& { return c.heading_prior_deg; })
+      .Add("prediction_sigma_m", [](NodeConfig& c) -> double& { return c.prediction_sigma_m; })
+      .Add("prediction_sigma_deg", [](NodeConfig& c) -> double& { return c.prediction_sigma_deg; })
+      .Add("prediction_drift_m_s", [](NodeConfig& c) -> double& { return c.prediction_drift_m_s; })
+      .Add("prediction_max_sigma_m", [](NodeConfig& c) -> double& { return c.prediction_max_sigma_m; })
+      .Add("association_margin", [](NodeConfig& c) -> double& { return c.association_margin; })
       .Add("expected_rate_hz", [](NodeConfig& c) -> double& { return c.expected_rate_hz; })
       .Add("rate_tolerance", [](NodeConfig& c) -> double& { return c.rate_tolerance; })
       // Segmentation (3.1.5): the HSI bounds (3.22), the ROI, the blob gates and the peak/base.

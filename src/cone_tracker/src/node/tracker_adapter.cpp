@@ -114,6 +114,7 @@ void TrackerAdapter::Reconfigure(const SegmenterConfig& segmenter, const ConePos
 void TrackerAdapter::ClearTrack() {
   last_T_cones_camera_.reset();
   track_start_stamp_ = ros::Time();
+  tracked_stamp_ = ros::Time();
 }
 
 FrameResult TrackerAdapter::Fail(FrameStatus status, const std::string& message) {
@@ -208,7 +209,9 @@ FrameResult TrackerAdapter::Process(const sensor_msgs::ImageConstPtr& msg,
   const std::optional<pose_math::Pose> pred = Prediction(im.header.stamp, tf_T_cones_camera, &r.prediction_source);
   const ros::Time since = last_T_cones_camera_ ? last_pose_stamp_ : track_start_stamp_;
   const bool track_lost = (im.header.stamp - since).toSec() > config_.reacquire_after_s;
+  const double since_tracked_s = tracked_stamp_.isZero() ? INFINITY : (im.header.stamp - tracked_stamp_).toSec();
   FillPose(im, pred, track_lost, &r);
+  FillObservations(im, pred, since_tracked_s, &r);
   return r;
 }
 

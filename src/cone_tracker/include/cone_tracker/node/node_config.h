@@ -40,6 +40,16 @@ struct NodeConfig {
   // the camera's bearing around the layout, atan2(y, x) of its position in
   // `cones` (deg). NaN: none.
   double heading_prior_deg = NAN;
+  // Per-cone association through the prediction (cone_tracker/observations,
+  // pose/associate.h): the prediction's 1-sigma error per axis, its position
+  // part growing by prediction_drift_m_s since the last frame with a pose or
+  // two associated cones, up to prediction_max_sigma_m; a detection keeps its
+  // cone only if every other cone costs association_margin more (chi-square).
+  double prediction_sigma_m = 0.05;
+  double prediction_sigma_deg = 2.0;
+  double prediction_drift_m_s = 0.5;
+  double prediction_max_sigma_m = 1.0;
+  double association_margin = 9.0;
   double expected_rate_hz = 30.0;  // diagnostics' frequency check on published poses
   double rate_tolerance = 0.5;     // +-50 % of expected_rate_hz
   SegmenterConfig segmenter;

@@ -15,7 +15,9 @@
 #include <sensor_msgs/Image.h>
 
 #include "cone_tracker/ConeDetections.h"
+#include "cone_tracker/ConeObservations.h"
 #include "cone_tracker/node/node_config.h"
+#include "cone_tracker/pose/associate.h"
 #include "cone_tracker/vision/cone_pose.h"
 #include "cone_tracker/vision/segmenter.h"
 
@@ -42,6 +44,11 @@ struct FrameResult {
   // Null when the image could not be segmented (bad image, encoding, camera_info).
   ConeDetections::Ptr detections;
   geometry_msgs::PoseWithCovarianceStamped::Ptr pose;  // null: no pose for this frame
+  // Every associated cone's points and covariances; null when no cone was
+  // associated (none seen, or no prediction and no pose: start-up).
+  ConeObservations::Ptr observations;
+  AssociationResult association;   // through the prediction (empty without one)
+  std::string observation_source;  // "pose" (3.1.6's correspondence), "prediction" or "" (none)
   SegmentationResult segmentation;
   ConePoseResult cone_pose;
   std::string prediction_source = "none";
@@ -57,6 +64,13 @@ struct TrackerCounters {
   uint64_t reacquisitions = 0;   // frames where a lost track re-initialised after its prediction failed
   uint64_t cones_found_sum = 0;  // accepted blobs over segmented frames
   uint64_t segmented_frames = 0;
+  // cone_tracker/observations
+  uint64_t observation_msgs = 0, observed_cones_sum = 0;
+  std::map<int, uint64_t> observation_msgs_by_cones;  // associated cones per message -> messages
+  uint64_t association_ambiguous = 0;                 // detections left out: two layout cones fitted nearly as well
+  uint64_t association_conflicts = 0;      // frames whose prediction was not trusted (AssociationResult::conflict)
+  uint64_t association_disagreements = 0;  // detections the prediction gave another cone than the accepted pose
+  uint64_t unobserved_no_prediction = 0;   // frames with cones but neither a pose nor a prediction
   std::map<std::string, uint64_t> blobs_rejected_by_gate;  // segmentation gate name -> blobs
 };
 
@@ -92,6 +106,10 @@ class TrackerAdapter {
   // track_lost: no pose for reacquire_after_s, so a failed prediction re-initialises.
   void FillPose(const sensor_msgs::Image& image, const std::optional<pose_math::Pose>& T_cones_camera_pred,
                 bool track_lost, FrameResult* r);
+  // cone_tracker/observations: the pose's correspondence when it passed the
+  // gates, else the association through the prediction.
+  void FillObservations(const sensor_msgs::Image& image, const std::optional<pose_math::Pose>& T_cones_camera_pred,
+                        double since_tracked_s, FrameResult* r);
 
   NodeConfig config_;
   std::vector<ConeModel> layout_;
@@ -103,6 +121,7 @@ class TrackerAdapter {
   std::optional<pose_math::Pose> last_T_cones_camera_;
   ros::Time last_pose_stamp_, last_image_stamp_;
   ros::Time track_start_stamp_;  // first frame since the last ClearTrack (reacquire_after_s)
+  ros::Time tracked_stamp_;      // last frame with a pose or two associated cones (prediction_drift_m_s)
   TrackerCounters counters_;
 };
 

@@ -1,0 +1,78 @@
+// Association of detected cones with the layout through a predicted pose, for
+// any number of cones (1, 2, 3 or more), and the 2x2 covariance of each image
+// point: the per-cone measurements of cone_tracker/observations. ROS-free.
+//
+// Every layout cone's peak, mid and base (3.12, corrected for the predicted
+// eye, 3.1.4) is projected with the prediction; its spread is the prediction's
+// error (camera orientation and position, 1-sigma per axis) pushed through the
+// projection, plus the image noise. The cones' predicted points move together
+// with the pose, so an assignment is scored on all its matched cones at once
+// (one Mahalanobis distance of the stacked points): a common shift costs
+// little, a swap of two cones of different height or spacing costs a lot.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cone_tracker/pose/pnp.h"
+#include "pose_math/pose.h"
+
+namespace cone_tracker {
+
+using ConePoints2d = std::array<Eigen::Vector2d, 3>;  // peak, mid, base in undistorted px
+using ConePoints3d = std::array<Eigen::Vector3d, 3>;  // peak, mid, base in `cones` (m)
+
+struct AssociationConfig {
+  double sigma_px = 1.0;                // image noise per coordinate (ConePoseConfig::sigma_px)
+  double prediction_sigma_m = 0.05;     // camera position error of the prediction, per axis
+  double prediction_sigma_rad = 0.035;  // camera orientation error of the prediction, per axis
+  double gate_probability = 0.999;      // a pair fits when chi2(6 dof) of its three points is below this quantile
+  double ambiguity_margin = 9.0;  // a detection keeps its cone only if every other cone for it costs this much more
+  double outside_frac =
+      0.5;  // a cone predicted farther outside the image than this fraction of its size is no candidate
+  double min_depth_m = 0.1;         // a cone point nearer than this (or behind the camera) is no candidate
+  size_t max_assignments = 200000;  // enumeration bound; beyond it nothing is associated
+  std::string Validate() const;
+};
+
+struct ConeCandidate {
+  int cone = -1;                             // layout index
+  Eigen::Matrix<double, 6, 1> predicted_px;  // peak u v, mid u v, base u v
+  Eigen::Matrix<double, 6, 6> jacobian;      // d predicted_px / d (camera rotation, camera position)
+};
+
+struct AssociationResult {
+  std::vector<int> cone_of_detection;  // layout index per detection, -1: none
+  std::vector<double> d2;  // per detection: chi2 of its three points against its cone's prediction (NaN: none)
+  std::vector<ConeCandidate> candidates;  // layout cones in front of the camera, near the image, apart
+  std::vector<int> overlapping;           // layout cones left out: predicted to overlap another in the image
+  int ambiguous = 0;                      // detections left out: another cone fitted them nearly as well
+  bool too_many = false;                  // the enumeration bound was reached: nothing associated
+  // A detection left unmatched lies on an unmatched candidate's predicted base (chi2 of
+  // the base point below the 2-dof gate) but does not fit its shape: the
+  // prediction is off by a swap of cones, or the segmentation by a cut cone;
+  // either way nothing in the frame is associated.
+  bool conflict = false;
+  double cost = 0.0;  // of the chosen assignment (chi2 units, unmatched detections at the gate)
+};
+
+// detections: undistorted points; point_cov: their 2x2 covariances (PointCovariances);
+// model_cones: each layout cone's points; camera: the pinhole of the undistorted pixels.
+AssociationResult AssociateCones(const std::vector<ConePoints2d>& detections,
+                                 const std::vector<std::array<Eigen::Matrix2d, 3>>& point_cov,
+                                 const std::vector<ConePoints3d>& model_cones, const CameraModel& camera,
+                                 const pose_math::Pose& T_camera_cones_pred, const AssociationConfig& config);
+
+// The 2x2 covariances (px^2) of a detected cone's peak, mid and base: sigma_px
+// per coordinate (the point noise of the 5.6 covariance) for all three, and for
+// the peak an extra spread along the cone's axis: the segmentation ends the
+// axis line search (3.1.5.4) at the last cone pixel, but the silhouette is
+// narrower than a pixel over the last h/w px of the tip (h the peak-base
+// length, w the base width, w = 2 area / h for a triangle), so the found peak
+// lies anywhere on that stretch: variance (h/w)^2 / 12 along the axis.
+std::array<Eigen::Matrix2d, 3> PointCovariances(const ConePoints2d& points_px, double area_px, double sigma_px);
+
+}  // namespace cone_tracker

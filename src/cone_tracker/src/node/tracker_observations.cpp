@@ -1,0 +1,99 @@
+// TrackerAdapter's cone_tracker/observations: which layout cone each detection
+// is (the accepted pose's correspondence, else the association through the
+// prediction, pose/associate.h) and the message with every associated cone's
+// undistorted points and their 2x2 covariances.
+#include <algorithm>
+#include <cmath>
+
+#include <boost/make_shared.hpp>
+
+#include "cone_tracker/node/tracker_adapter.h"
+
+namespace cone_tracker {
+namespace {
+
+void Set2(const Eigen::Vector2d& v, boost::array<double, 2>* out) { (*out)[0] = v.x(), (*out)[1] = v.y(); }
+
+void Set4(const Eigen::Matrix2d& m, boost::array<double, 4>* out) {
+  (*out)[0] = m(0, 0), (*out)[1] = m(0, 1), (*out)[2] = m(1, 0), (*out)[3] = m(1, 1);  // row-major
+}
+
+ConePoints2d PointsOf(const ConeDetection& d) { return {d.peak_undist_px, d.mid_undist_px, d.base_undist_px}; }
+
+}  // namespace
+
+void TrackerAdapter::FillObservations(const sensor_msgs::Image& im, const std::optional<pose_math::Pose>& pred,
+                                      double since_tracked_s, FrameResult* r) {
+  const std::vector<ConeDetection>& dets = r->segmentation.cones;
+  if (dets.empty()) return;
+  std::vector<ConePoints2d> points;
+  std::vector<std::array<Eigen::Matrix2d, 3>> cov;
+  for (const ConeDetection& d : dets) {
+    points.push_back(PointsOf(d));
+    cov.push_back(PointCovariances(points.back(), d.blob.area, config_.pose.sigma_px));
+  }
+  if (pred) {
+    AssociationConfig a;
+    a.sigma_px = config_.pose.sigma_px;
+    a.gate_probability = config_.pose.chi2_probability;
+    a.ambiguity_margin = config_.association_margin;
+    a.prediction_sigma_rad = config_.prediction_sigma_deg * M_PI / 180.0;
+    // pose_ekf's position drifts while no cone is fused; its orientation
+    // (gyros) stays near the prediction's (test/README.md).
+    a.prediction_sigma_m = config_.prediction_drift_m_s > 0.0
+                               ? std::min(config_.prediction_max_sigma_m,
+                                          config_.prediction_sigma_m + config_.prediction_drift_m_s * since_tracked_s)
+                               : config_.prediction_sigma_m;
+    std::vector<ConePoints3d> model;
+    for (const ConeModel& c : layout_) {
+      const auto p = CorrectedModelPoints(c, pred->t);  // pred->t: the camera in `cones`
+      model.push_back({p[0], p[1], p[2]});
+    }
+    CameraModel pinhole = camera_;  // the detections are undistorted (3.1.2)
+    pinhole.distortion.clear();
+    r->association = AssociateCones(points, cov, model, pinhole, pose_math::Invert(*pred), a);
+    counters_.association_ambiguous += uint64_t(r->association.ambiguous);
+    counters_.association_conflicts += r->association.conflict;
+  }
+
+  std::vector<int> ids;
+  const ConePoseResult& cp = r->cone_pose;
+  if (cp.ok) {
+    // 3.1.6 decided (and its pose passed the gates): the observations carry its ids.
+    ids = cp.cone_of_detection;
+    r->observation_source = "pose";
+    const std::vector<int>& by_pred = r->association.cone_of_detection;
+    for (size_t d = 0; d < ids.size() && d < by_pred.size(); ++d)
+      if (ids[d] >= 0 && by_pred[d] >= 0 && ids[d] != by_pred[d]) ++counters_.association_disagreements;
+  } else if (pred) {
+    ids = r->association.cone_of_detection;
+    r->observation_source = "prediction";
+  } else {
+    ++counters_.unobserved_no_prediction;  // start-up with fewer than 3 cones: nothing to associate with
+    return;
+  }
+
+  auto msg = boost::make_shared<ConeObservations>();
+  msg->header.stamp = im.header.stamp;
+  msg->header.frame_id = im.header.frame_id.empty() ? config_.camera_frame : im.header.frame_id;
+  msg->fx = camera_.fx_px, msg->fy = camera_.fy_px, msg->cx = camera_.cx_px, msg->cy = camera_.cy_px;
+  for (size_t d = 0; d < dets.size() && d < ids.size(); ++d) {
+    if (ids[d] < 0) continue;
+    ConeObservation o;
+    o.cone_id = ids[d];
+    Set2(points[d][0], &o.peak_px), Set2(points[d][1], &o.mid_px), Set2(points[d][2], &o.base_px);
+    Set4(cov[d][0], &o.peak_cov_px2), Set4(cov[d][1], &o.mid_cov_px2), Set4(cov[d][2], &o.base_cov_px2);
+    msg->cones.push_back(o);
+  }
+  if (r->pose || msg->cones.size() >= 2) tracked_stamp_ = im.header.stamp;
+  if (msg->cones.empty()) {
+    r->observation_source.clear();
+    return;
+  }
+  ++counters_.observation_msgs;
+  counters_.observed_cones_sum += msg->cones.size();
+  ++counters_.observation_msgs_by_cones[int(msg->cones.size())];
+  r->observations = msg;
+}
+
+}  // namespace cone_tracker

@@ -1,0 +1,215 @@
+#include "cone_tracker/pose/associate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+
+#include <Eigen/Cholesky>
+#include <boost/math/distributions/chi_squared.hpp>
+
+#include "pose_math/rotation.h"
+
+namespace cone_tracker {
+namespace {
+
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+
+Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+// Projects a cone's three points; false when one is too near or behind the
+// camera, or far outside the image. The Jacobian is against a small rotation
+// of the camera (R' = Exp(dtheta) R, in the camera frame) and a shift of its
+// position in `cones`: p_camera = R (p - c) moves by dtheta x p_camera - R dc.
+bool ProjectCone(const ConePoints3d& pts, const Eigen::Matrix3d& R, const Eigen::Vector3d& eye, const CameraModel& cam,
+                 const AssociationConfig& cfg, ConeCandidate* out) {
+  const double mu = cfg.outside_frac * cam.width_px, mv = cfg.outside_frac * cam.height_px;
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d p = R * (pts[size_t(i)] - eye);
+    if (!(p.z() > cfg.min_depth_m)) return false;
+    const double u = cam.fx_px * p.x() / p.z() + cam.cx_px, v = cam.fy_px * p.y() / p.z() + cam.cy_px;
+    if (u < -mu || v < -mv || u > cam.width_px - 1 + mu || v > cam.height_px - 1 + mv) return false;
+    Eigen::Matrix<double, 2, 3> duv_dp;
+    duv_dp << cam.fx_px / p.z(), 0, -cam.fx_px * p.x() / (p.z() * p.z()), 0, cam.fy_px / p.z(),
+        -cam.fy_px * p.y() / (p.z() * p.z());
+    out->predicted_px.segment<2>(2 * i) << u, v;
+    out->jacobian.block<2, 3>(2 * i, 0) = duv_dp * -Skew(p);
+    out->jacobian.block<2, 3>(2 * i, 3) = duv_dp * -R;
+  }
+  return true;
+}
+
+Vector6d Stack(const ConePoints2d& d) {
+  Vector6d v;
+  v << d[0], d[1], d[2];
+  return v;
+}
+
+}  // namespace
+
+std::string AssociationConfig::Validate() const {
+  if (!(sigma_px > 0.0)) return "sigma_px must be > 0";
+  if (!(prediction_sigma_m > 0.0)) return "prediction_sigma_m must be > 0";
+  if (!(prediction_sigma_rad > 0.0)) return "prediction_sigma_rad must be > 0";
+  if (!(gate_probability > 0.0 && gate_probability < 1.0)) return "gate_probability must be in (0, 1)";
+  if (!(ambiguity_margin >= 0.0)) return "ambiguity_margin must be >= 0";
+  if (!(outside_frac >= 0.0)) return "outside_frac must be >= 0";
+  if (!(min_depth_m > 0.0)) return "min_depth_m must be > 0";
+  return "";
+}
+
+std::array<Eigen::Matrix2d, 3> PointCovariances(const ConePoints2d& pts, double area_px, double sigma_px) {
+  const Eigen::Matrix2d iso = sigma_px * sigma_px * Eigen::Matrix2d::Identity();
+  std::array<Eigen::Matrix2d, 3> cov{iso, iso, iso};
+  const Eigen::Vector2d axis = pts[0] - pts[2];
+  const double h = axis.norm();
+  if (h > 1e-6 && area_px > 0.0) {
+    const double tip_px = std::min(h * h / (2.0 * area_px), 0.5 * h);  // h / w, w = 2 area / h
+    const Eigen::Vector2d a = axis / h;
+    const Eigen::Matrix2d along = a * a.transpose();  // exactly symmetric
+    cov[0] += (tip_px * tip_px / 12.0) * along;       // uniform over the sub-pixel tip
+  }
+  return cov;
+}
+
+AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
+                                 const std::vector<std::array<Eigen::Matrix2d, 3>>& point_cov,
+                                 const std::vector<ConePoints3d>& model_cones, const CameraModel& cam,
+                                 const pose_math::Pose& T_pred, const AssociationConfig& cfg) {
+  AssociationResult out;
+  const size_t nd = dets.size();
+  out.cone_of_detection.assign(nd, -1);
+  out.d2.assign(nd, std::numeric_limits<double>::quiet_NaN());
+  const Eigen::Matrix3d R = pose_math::RotationFromQuat(T_pred.q);
+  const Eigen::Vector3d eye = -(R.transpose() * T_pred.t);
+  std::vector<Eigen::Vector4d> boxes;  // predicted silhouette: u_min, v_min, u_max, v_max
+  for (size_t c = 0; c < model_cones.size(); ++c) {
+    ConeCandidate k;
+    k.cone = int(c);
+    if (!ProjectCone(model_cones[c], R, eye, cam, cfg, &k)) continue;
+    out.candidates.push_back(k);
+    const ConePoints3d& p = model_cones[c];
+    // The base point is the base radius off the axis (3.18): the half-width.
+    const double half_px = cam.fx_px * (p[2] - p[0]).head<2>().norm() / (R * (p[2] - eye)).z();
+    const Eigen::Vector2d peak = k.predicted_px.head<2>(), base = k.predicted_px.tail<2>();
+    boxes.emplace_back(std::min(peak.x(), base.x()) - half_px, std::min(peak.y(), base.y()),
+                       std::max(peak.x(), base.x()) + half_px, std::max(peak.y(), base.y()));
+  }
+  // Cones predicted to overlap in the image are left out: the segmentation
+  // merges them into one blob or cuts the far one, whose points fit neither.
+  std::vector<bool> overlaps(out.candidates.size(), false);
+  for (size_t i = 0; i < boxes.size(); ++i)
+    for (size_t j = i + 1; j < boxes.size(); ++j)
+      if (boxes[i][0] < boxes[j][2] && boxes[j][0] < boxes[i][2] && boxes[i][1] < boxes[j][3] &&
+          boxes[j][1] < boxes[i][3])
+        overlaps[i] = overlaps[j] = true;
+  std::vector<ConeCandidate> apart;
+  for (size_t i = 0; i < overlaps.size(); ++i) {
+    if (overlaps[i])
+      out.overlapping.push_back(out.candidates[i].cone);
+    else
+      apart.push_back(out.candidates[i]);
+  }
+  out.candidates = apart;
+  const size_t nc = out.candidates.size();
+  Matrix6d prior = Matrix6d::Zero();
+  prior.diagonal() << Eigen::Vector3d::Constant(cfg.prediction_sigma_rad * cfg.prediction_sigma_rad),
+      Eigen::Vector3d::Constant(cfg.prediction_sigma_m * cfg.prediction_sigma_m);
+  const double gate = boost::math::quantile(boost::math::chi_squared(6), cfg.gate_probability);
+  out.cost = gate * double(nd);
+  if (nc == 0 || nd == 0) return out;
+
+  std::vector<Matrix6d> noise(nd);  // the detection's three points, block diagonal
+  for (size_t d = 0; d < nd; ++d) {
+    noise[d].setZero();
+    for (int i = 0; i < 3; ++i) noise[d].block<2, 2>(2 * i, 2 * i) = point_cov[d][size_t(i)];
+  }
+  // Per pair: its own chi2, gated (a cone far from every prediction is no candidate).
+  std::vector<std::vector<double>> pair_d2(nd, std::vector<double>(nc, INFINITY));
+  for (size_t d = 0; d < nd; ++d)
+    for (size_t c = 0; c < nc; ++c) {
+      const ConeCandidate& k = out.candidates[c];
+      const Matrix6d S = k.jacobian * prior * k.jacobian.transpose() + noise[d];
+      const Vector6d r = Stack(dets[d]) - k.predicted_px;
+      const double e = r.dot(S.ldlt().solve(r));
+      if (e < gate) pair_d2[d][c] = e;
+    }
+
+  // Every injective assignment of gated pairs, scored jointly.
+  struct Scored {
+    std::vector<int> a;  // candidate index per detection, -1 none
+    double cost;
+  };
+  std::vector<Scored> all;
+  std::vector<int> cur(nd, -1);
+  std::vector<bool> used(nc, false);
+  std::function<void(size_t)> search = [&](size_t d) {
+    if (out.too_many) return;
+    if (d == nd) {
+      std::vector<size_t> ds;
+      for (size_t i = 0; i < nd; ++i)
+        if (cur[i] >= 0) ds.push_back(i);
+      const int n = int(ds.size());
+      Eigen::VectorXd r(6 * n);
+      Eigen::MatrixXd J(6 * n, 6), S = Eigen::MatrixXd::Zero(6 * n, 6 * n);
+      for (int i = 0; i < n; ++i) {
+        const ConeCandidate& k = out.candidates[size_t(cur[ds[size_t(i)]])];
+        r.segment<6>(6 * i) = Stack(dets[ds[size_t(i)]]) - k.predicted_px;
+        J.block<6, 6>(6 * i, 0) = k.jacobian;
+        S.block<6, 6>(6 * i, 6 * i) = noise[ds[size_t(i)]];
+      }
+      S += J * prior * J.transpose();
+      const double cost = (n ? r.dot(S.ldlt().solve(r)) : 0.0) + gate * double(nd - ds.size());
+      all.push_back({cur, cost});
+      if (all.size() >= cfg.max_assignments) out.too_many = true;
+      return;
+    }
+    for (size_t c = 0; c < nc; ++c) {
+      if (used[c] || !std::isfinite(pair_d2[d][c])) continue;
+      used[c] = true, cur[d] = int(c);
+      search(d + 1);
+      used[c] = false, cur[d] = -1;
+    }
+    search(d + 1);  // a distractor, or a cone the prediction does not reach
+  };
+  search(0);
+  if (out.too_many) return out;
+  const auto best =
+      std::min_element(all.begin(), all.end(), [](const Scored& x, const Scored& y) { return x.cost < y.cost; });
+  out.cost = best->cost;
+  const double gate2 = boost::math::quantile(boost::math::chi_squared(2), cfg.gate_probability);
+  for (size_t d = 0; d < nd && !out.conflict; ++d) {
+    if (best->a[d] >= 0) continue;
+    for (size_t c = 0; c < nc; ++c) {
+      if (std::count(best->a.begin(), best->a.end(), int(c))) continue;  // explained by another detection
+      const ConeCandidate& k = out.candidates[c];
+      const Eigen::Matrix<double, 2, 6> Jb = k.jacobian.bottomRows<2>();
+      const Eigen::Matrix2d S = Jb * prior * Jb.transpose() + point_cov[d][2];
+      const Eigen::Vector2d r = dets[d][2] - k.predicted_px.tail<2>();
+      if (r.dot(S.ldlt().solve(r)) < gate2) out.conflict = true;
+    }
+  }
+  if (out.conflict) return out;
+  for (size_t d = 0; d < nd; ++d) {
+    const int c = best->a[d];
+    if (c < 0) continue;
+    // The nearest rival: any assignment giving this detection another cone.
+    double rival = INFINITY;
+    for (const Scored& s : all)
+      if (s.a[d] >= 0 && s.a[d] != c) rival = std::min(rival, s.cost);
+    if (rival - best->cost < cfg.ambiguity_margin) {
+      ++out.ambiguous;
+      continue;
+    }
+    out.cone_of_detection[d] = out.candidates[size_t(c)].cone;
+    out.d2[d] = pair_d2[d][size_t(c)];
+  }
+  return out;
+}
+
+}  // namespace cone_tracker
