@@ -81,7 +81,7 @@ class Adapter : public testing::Test {
 // Every segmentation gate the vision core can set has a name in the
 // diagnostics and the detections message.
 TEST(GateNames, EverySegmentationGateIsNamed) {
-  for (uint32_t bit = 1; bit <= kGateOutline; bit <<= 1)
+  for (uint32_t bit = 1; bit <= kGateShape; bit <<= 1)
     EXPECT_EQ(SegmentationGateNames(bit).size(), 1u) << "gate bit " << bit << " has no name";
 }
 

@@ -12,6 +12,9 @@
 #include <iterator>
 #include <string>
 
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
 namespace {
 
 std::string TempPath(const std::string& name) {
@@ -106,6 +109,38 @@ TEST(PnpSolveCli, UnreadableInputExitsOne) {
   const ToolRun dir = RunTool(PNP_SOLVE_EXE, "--input /tmp --output -");  // a directory opens but cannot be read
   EXPECT_EQ(dir.status, 1);
   EXPECT_NE(dir.err.find("reading /tmp failed"), std::string::npos) << dir.err;
+}
+
+// calibrate_cone_colour (a Python script, run as rosrun runs it): a box with no cone pixels is refused
+// with the reason, and with no usable box nothing is written; a box around an orange cone gives a
+// model that detect_cones loads through its config's colour_model.
+TEST(CalibrateConeColourCli, EmptyBoxIsRefusedAndAConeBoxGivesALoadableModel) {
+  const std::string exe = std::string(CONE_TRACKER_SOURCE_DIR) + "/scripts/calibrate_cone_colour";
+  cv::Mat img(240, 320, CV_8UC3, cv::Scalar(70, 62, 60));  // BGR: dark asphalt
+  const std::vector<cv::Point> cone = {{160, 40}, {120, 200}, {200, 200}};
+  cv::fillConvexPoly(img, cone, cv::Scalar(20, 95, 250));  // orange
+  const std::string image = TempPath("cone.png"), boxes = TempPath("boxes.csv"), model = TempPath("model.yaml");
+  ASSERT_TRUE(cv::imwrite(image, img));
+  std::ofstream(boxes) << "image,x,y,w,h\n" << image << ",10,10,60,80\n";  // asphalt only
+  const ToolRun empty = RunTool(exe, "--boxes " + boxes + " --output " + model + " " + image);
+  EXPECT_EQ(empty.status, 1) << empty.err;
+  EXPECT_NE(empty.err.find(image + ": box 1 refused: no cone-coloured pixels: 0 of the"), std::string::npos)
+      << empty.err;
+  EXPECT_NE(empty.err.find("no usable cone box (1 refused); nothing written"), std::string::npos) << empty.err;
+  EXPECT_FALSE(std::ifstream(model).good());
+
+  std::ofstream(boxes) << image << ",115,38,90,165\n" << image << ",250,150,40,60\n";
+  const ToolRun ok = RunTool(exe, "--boxes " + boxes + " --output " + model + " " + image);
+  EXPECT_EQ(ok.status, 0) << ok.err;
+  EXPECT_NE(ok.err.find("box 2 refused"), std::string::npos) << ok.err;  // the second box, on asphalt
+  const std::string config = TempPath("config.yaml"), out = TempPath("d.jsonl");
+  std::ofstream(config) << "colour_model: " << model << "\nreject_bad_outline: false\n";
+  const ToolRun det = RunTool(DETECT_CONES_EXE, "--config " + config + " --output " + out + " " + image);
+  EXPECT_EQ(det.status, 0) << det.err;
+  std::ifstream in(out);
+  const std::string line((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(line.find("\"cones\":[{\"area\""), std::string::npos) << line;
+  for (const auto& p : {image, boxes, model, config, out}) std::remove(p.c_str());
 }
 
 }  // namespace

@@ -44,6 +44,10 @@ cone_tracker::SegmenterConfig LoadConfig(const std::string& path) {
       reader.Fail(kv.second, kv.first.Scalar(), "must be finite");
     }
   }
+  // A relative colour model is the config file's neighbour.
+  std::string& model = c.segmenter.colour_model;
+  const size_t slash = path.find_last_of('/');
+  if (!model.empty() && model[0] != '/' && slash != std::string::npos) model = path.substr(0, slash + 1) + model;
   return c.segmenter;
 }
 

@@ -57,6 +57,10 @@ Table MakeTable() {
       .Add("template_search_px", [](NodeConfig& c) -> double& { return c.segmenter.template_search_px; })
       .Add("outline_outlier_px", [](NodeConfig& c) -> double& { return c.segmenter.outline.outlier_px; })
       .Add("outline_max_edge_rms_px", [](NodeConfig& c) -> double& { return c.segmenter.outline.max_edge_rms_px; })
+      // The learned colour table and the cone-silhouette check (not in the thesis).
+      .Add("colour_model", [](NodeConfig& c) -> std::string& { return c.segmenter.colour_model; })
+      .Add("merge_band_gap_frac", [](NodeConfig& c) -> double& { return c.segmenter.merge_band_gap_frac; })
+      .Add("verify_cone_shape", [](NodeConfig& c) -> bool& { return c.segmenter.shape.enabled; })
       // Correspondence and the gates (3.1.6, 6.4).
       .Add("sigma_px", [](NodeConfig& c) -> double& { return c.pose.sigma_px; })
       .Add("max_assignment_px", [](NodeConfig& c) -> double& { return c.pose.max_assignment_px; })

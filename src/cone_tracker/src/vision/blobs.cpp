@@ -169,10 +169,12 @@ double ExtentAlong(const std::vector<Run>& runs, const Eigen::Vector2d& origin, 
 
 // Gap between `big`'s end and `small` along their common cone axis if `small`
 // can be the next fragment of the cone `big` belongs to; NaN otherwise.
-double FragmentGap(const Blob& big, const Blob& small, double lateral_frac, double gap_frac, double max_tilt_rad) {
+double FragmentGap(const Blob& big, const Blob& small, double lateral_frac, double gap_frac, double max_tilt_rad,
+                   const BandTest& band, double band_gap_frac) {
   const Eigen::Vector2d d = small.centroid - big.centroid;
+  const double max_gap_frac = band ? std::max(gap_frac, band_gap_frac) : gap_frac;
   // Quick reject: each end lies within its blob's major axis of its centroid.
-  if (d.norm() > (1.0 + lateral_frac + gap_frac) * big.major_px + small.major_px) return NAN;
+  if (d.norm() > (1.0 + lateral_frac + max_gap_frac) * big.major_px + small.major_px) return NAN;
   Eigen::Vector2d axis = ConeAxisOf(big, max_tilt_rad);
   if (axis.isZero()) {  // a near-round body: the line to the fragment is the axis, if upright
     if (d.norm() < 1e-9) return NAN;
@@ -184,8 +186,9 @@ double FragmentGap(const Blob& big, const Blob& small, double lateral_frac, doub
   const Eigen::Vector2d toward = d.dot(axis) > 0.0 ? axis : Eigen::Vector2d(-axis);
   const double along = d.dot(toward), lateral = std::abs(d.x() * axis.y() - d.y() * axis.x());
   const double big_end = ExtentAlong(big.runs, big.centroid, toward);
-  const double gap = along - big_end - ExtentAlong(small.runs, small.centroid, -toward);
-  if (lateral > lateral_frac * big.major_px || gap > gap_frac * big.major_px || along < big_end) return NAN;
+  const double small_back = ExtentAlong(small.runs, small.centroid, -toward);
+  const double gap = along - big_end - small_back;
+  if (lateral > lateral_frac * big.major_px || gap > max_gap_frac * big.major_px || along < big_end) return NAN;
   // A cone narrows toward its peak. A fragment above the big blob's end is no
   // wider than that end: a second cone standing behind the first, seen above
   // it, shows its wide base there. A fragment below it starts at least about
@@ -199,12 +202,29 @@ double FragmentGap(const Blob& big, const Blob& small, double lateral_frac, doub
     const double small_end_width = WidthAcross(small.runs, small.centroid, toward, -INFINITY, small_near + end_window);
     if (small_end_width < 0.6 * big_end_width - 2.0) return NAN;
   }
+  if (gap > gap_frac * big.major_px) {  // only across a band, and on the cone's two straight edges:
+    // the widths either side of the band are in the ratio of their distances from the apex (the
+    // upper fragment's far end). A far cone's base seen above a near cone's end is too narrow.
+    const double small_near_width =
+        WidthAcross(small.runs, small.centroid, toward, -INFINITY, -small_back + end_window);
+    const double small_len = small_back + ExtentAlong(small.runs, small.centroid, toward);
+    const double big_len = big_end + ExtentAlong(big.runs, big.centroid, -toward);
+    const double expected = toward.y() < 0.0 ? small_len / (small_len + gap) : (big_len + gap) / big_len;
+    const double ratio = small_near_width / std::max(1.0, big_end_width);
+    if (!(ratio > 0.6 * expected && ratio < 1.6 * expected + 0.1)) return NAN;
+    const Eigen::Vector2d side = d - along * toward;  // the small fragment's lateral offset
+    const Eigen::Vector2d from = big.centroid + big_end * toward + (big_end / along) * side;
+    const Eigen::Vector2d to = big.centroid + (along - small_back) * toward + ((along - small_back) / along) * side;
+    const double narrow = std::min(WidthAcross(small.runs, small.centroid, toward, -INFINITY, INFINITY), big_end_width);
+    if (!band(from, to, 0.3 * narrow)) return NAN;
+  }
   return gap;
 }
 
 }  // namespace
 
-void MergeAlongAxes(std::vector<Blob>* blobs, double lateral_frac, double gap_frac, double max_tilt_rad) {
+void MergeAlongAxes(std::vector<Blob>* blobs, double lateral_frac, double gap_frac, double max_tilt_rad,
+                    const BandTest& band, double band_gap_frac) {
   // Greedy, nearest pair first: a cone's own fragments, a collar apart, join
   // before a neighbour's. A far cone's tip seen above this cone's peak then
   // finds its own band and body first, and a far cone's base seen above this
@@ -216,7 +236,7 @@ void MergeAlongAxes(std::vector<Blob>* blobs, double lateral_frac, double gap_fr
       for (size_t j = 0; j < blobs->size(); ++j) {
         const Blob &a = (*blobs)[i], &b = (*blobs)[j];
         if (i == j || a.area < b.area || (a.area == b.area && i > j)) continue;  // the larger one hosts
-        const double gap = FragmentGap(a, b, lateral_frac, gap_frac, max_tilt_rad);
+        const double gap = FragmentGap(a, b, lateral_frac, gap_frac, max_tilt_rad, band, band_gap_frac);
         if (gap < best_gap) host = i, fragment = j, best_gap = gap;
       }
     if (!std::isfinite(best_gap)) return;

@@ -67,8 +67,9 @@ ColorLut::ColorLut() : ColorLut(HsiBounds()) {}
 ColorLut::ColorLut(const HsiBounds& bounds) : bounds_(Validated(bounds)), bits_(size_t(1) << 18, 0) { Fill(); }
 
 void ColorLut::Build(const HsiBounds& bounds) {
-  if (Validated(bounds) == bounds_) return;
+  if (Validated(bounds) == bounds_ && model_path_.empty()) return;
   bounds_ = bounds;
+  model_path_.clear();
   Fill();
 }
 
@@ -77,6 +78,18 @@ void ColorLut::Fill() {
   for (uint32_t i = 0; i < (1u << 24); ++i) {
     if (InBounds(bounds_, uint8_t(i >> 16), uint8_t(i >> 8), uint8_t(i))) bits_[i >> 6] |= uint64_t(1) << (i & 63);
   }
+}
+
+void ColorLut::BuildFromModel(const ColourModel& model) {
+  std::fill(bits_.begin(), bits_.end(), 0);
+  for (uint32_t i = 0; i < (1u << 24); i += 8) {  // a bin spans at least 4 blue values: test in pairs of 4
+    const uint8_t r = uint8_t(i >> 16), g = uint8_t(i >> 8), b = uint8_t(i);
+    uint64_t byte = 0;
+    if (model.IsCone(r, g, b)) byte |= 0x0f;
+    if (model.IsCone(r, g, uint8_t(b + 4))) byte |= 0xf0;
+    bits_[i >> 6] |= byte << (i & 63);
+  }
+  model_path_ = model.path;
 }
 
 }  // namespace cone_tracker

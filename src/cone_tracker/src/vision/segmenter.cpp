@@ -87,7 +87,10 @@ std::string SegmenterConfig::Validate() const {
   if (pyramid_levels < 0 || pyramid_levels > 4) return "pyramid_levels must be in [0, 4]";
   if (roi_margin_px < 0) return "roi_margin_px must be >= 0";
   if (min_fragment_area_px < 1) return "min_fragment_area_px must be >= 1";
-  if (!(merge_lateral_frac >= 0.0) || !(merge_gap_frac >= 0.0)) return "merge fractions must be >= 0";
+  if (!(merge_lateral_frac >= 0.0) || !(merge_gap_frac >= 0.0) || !(merge_band_gap_frac >= 0.0))
+    return "merge fractions must be >= 0";
+  if (band_min_value < 0 || band_min_value > 255) return "band_min_value must be in [0, 255]";
+  if (!(band_max_sat >= 0.0 && band_max_sat <= 1.0)) return "band_max_sat must be in [0, 1]";
   if (!(min_area_px >= 0.0) || !(max_area_px >= min_area_px)) return "area bounds must satisfy 0 <= min <= max";
   if (border_px < 0) return "border_px must be >= 0";
   if (!(min_solidity >= 0.0) || !(max_solidity >= min_solidity)) return "solidity bounds invalid";
@@ -99,6 +102,8 @@ std::string SegmenterConfig::Validate() const {
   if (!(outline.outlier_px > 0.0) || !(outline.max_edge_rms_px > 0.0)) return "outline pixel bounds must be > 0";
   if (!(outline.min_inlier_frac >= 0.0 && outline.min_inlier_frac <= 1.0))
     return "outline.min_inlier_frac must be in [0, 1]";
+  if (!(shape.max_top_width_frac > 0.0) || !(shape.max_width_rms_frac > 0.0) || !(shape.max_hole_frac >= 0.0))
+    return "shape bounds must be > 0";
   if (!(template_search_px >= 0.0 && template_search_px <= 32.0)) return "template_search_px must be in [0, 32]";
   return "";
 }
@@ -118,7 +123,16 @@ const HsiBounds& ValidatedHsi(const SegmenterConfig& config) {
 Segmenter::Segmenter(const SegmenterConfig& config) : lut_(ValidatedHsi(config)) { SetConfig(config); }
 
 void Segmenter::SetConfig(const SegmenterConfig& config) {
-  lut_.Build(ValidatedHsi(config));  // a no-op when the bounds are unchanged
+  if (config.colour_model.empty()) {
+    lut_.Build(ValidatedHsi(config));  // a no-op when the bounds are unchanged
+  } else if (lut_.model_path() != config.colour_model) {
+    ValidatedHsi(config);
+    try {
+      lut_.BuildFromModel(LoadColourModel(config.colour_model));
+    } catch (const std::runtime_error& e) {  // rig_model::FileError: names the file, line and field
+      throw std::invalid_argument(std::string("colour_model: ") + e.what());
+    }
+  }
   if (config.refinement() == PeakRefinement::kTemplates && !templates_) {
     TemplateSetConfig tc;
     tc.max_tilt_deg = std::max(config.max_tilt_deg, 3.0);
@@ -158,6 +172,7 @@ bool Segmenter::Classify(const ImageView& in, SegmentationResult* out) {
     return false;
   }
   const int w = in.width, h = in.height;
+  frame_rgb_ = rgb, frame_step_ = step, frame_w_ = w, frame_h_ = h;
   auto is_cone = [&](int x, int y) {
     const uint8_t* p = rgb + size_t(y) * step + 3 * x;
     return lut_.IsCone(p[r_off], p[1], p[b_off]);
@@ -179,6 +194,26 @@ bool Segmenter::Classify(const ImageView& in, SegmentationResult* out) {
     for (int x = out->roi_x; x < out->roi_x + out->roi_w; ++x) m[x] = is_cone(x, y);
   }
   return true;
+}
+
+bool Segmenter::IsBand(const Eigen::Vector2d& from, const Eigen::Vector2d& to, double half_width_px) const {
+  const Eigen::Vector2d d = to - from;
+  const double len = d.norm();
+  if (!frame_rgb_ || !(len > 0.0)) return false;
+  const Eigen::Vector2d e = Eigen::Vector2d(d.y(), -d.x()) / len;
+  int band = 0, total = 0;
+  const int steps = std::clamp(int(len / 2.0), 3, 12);
+  for (int i = 0; i < steps; ++i)
+    for (double s : {-1.0, 0.0, 1.0}) {
+      const Eigen::Vector2d p = from + (i + 0.5) / steps * d + s * half_width_px * e;
+      const int x = int(std::lround(p.x())), y = int(std::lround(p.y()));
+      if (x < 0 || y < 0 || x >= frame_w_ || y >= frame_h_) continue;
+      const uint8_t* q = frame_rgb_ + size_t(y) * frame_step_ + 3 * x;
+      const int mx = std::max({q[0], q[1], q[2]}), mn = std::min({q[0], q[1], q[2]});
+      ++total;
+      band += mx >= config_.band_min_value && mn >= (1.0 - config_.band_max_sat) * mx;
+    }
+  return total > 0 && band >= 0.6 * total;
 }
 
 bool Segmenter::Measure(const MaskView& mask, const CameraModel& camera, ConeDetection* det) const {
@@ -276,7 +311,11 @@ SegmentationResult Segmenter::Process(const ImageView& image, const CameraModel&
   const MaskView mask{mask_.data(), image.width, image.height, image.width};
   std::vector<Blob> blobs = FindBlobs(mask, result.roi_x, result.roi_y, result.roi_x + result.roi_w,
                                       result.roi_y + result.roi_h, config_.min_fragment_area_px);
-  MergeAlongAxes(&blobs, config_.merge_lateral_frac, config_.merge_gap_frac, config_.max_tilt_deg * M_PI / 180.0);
+  BandTest band;
+  if (config_.merge_band_gap_frac > 0.0)
+    band = [this](const Eigen::Vector2d& a, const Eigen::Vector2d& b, double hw) { return IsBand(a, b, hw); };
+  MergeAlongAxes(&blobs, config_.merge_lateral_frac, config_.merge_gap_frac, config_.max_tilt_deg * M_PI / 180.0, band,
+                 config_.merge_band_gap_frac);
   result.blobs_ms = MsSince(&t);
   const SegmenterConfig& c = config_;
   for (Blob& b : blobs) {
@@ -293,6 +332,8 @@ SegmentationResult Segmenter::Process(const ImageView& image, const CameraModel&
     if (std::abs(std::cos(d.orientation_rad)) > std::sin(c.max_tilt_deg * M_PI / 180.0))
       det.failed_gates |= kGateTilt;  // |angle from vertical| > max_tilt
     const bool undistorted = det.failed_gates == 0 && Measure(mask, camera, &det);
+    if (det.failed_gates == 0 && !CheckConeShape(d.runs, det.peak_px, det.base_px, c.shape).ok)
+      det.failed_gates |= kGateShape;
     if (undistorted) {
       // The mid-height point on the axis; it is not a measured point.
       det.mid_undist_px = 0.5 * (det.peak_undist_px + det.base_undist_px);
@@ -353,7 +394,8 @@ std::vector<std::string> SegmentationGateNames(uint32_t bits) {
                                                             {kGateLineSearch, "line_search"},
                                                             {kGateUndistort, "undistort"},
                                                             {kGateTilt, "tilt"},
-                                                            {kGateOutline, "outline"}};
+                                                            {kGateOutline, "outline"},
+                                                            {kGateShape, "shape"}};
   std::vector<std::string> out;
   for (const auto& [bit, name] : kNames)
     if (bits & bit) out.emplace_back(name), bits &= ~bit;

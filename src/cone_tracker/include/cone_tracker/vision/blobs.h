@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -59,6 +60,12 @@ double HullArea(const std::vector<Run>& runs);
 // distortion and the rig's roll tilt them in the image). The cone axis of a
 // squat fragment is across its major axis, or the line to the other fragment
 // when it is near round. Nearest fragments join first.
-void MergeAlongAxes(std::vector<Blob>* blobs, double lateral_frac, double gap_frac, double max_tilt_rad);
+// A striped cone's white or silver band (a reflective sleeve) can be as tall as the fragment above
+// it: with `band`, a gap up to band_gap_frac * major joins too when band(from, to, half_width_px)
+// says that the pixels between the fragments (along the axis from `from` to `to`, that far either
+// side) are a band's (bright, unsaturated).
+using BandTest = std::function<bool(const Eigen::Vector2d& from, const Eigen::Vector2d& to, double half_width_px)>;
+void MergeAlongAxes(std::vector<Blob>* blobs, double lateral_frac, double gap_frac, double max_tilt_rad,
+                    const BandTest& band = nullptr, double band_gap_frac = 0.0);
 
 }  // namespace cone_tracker

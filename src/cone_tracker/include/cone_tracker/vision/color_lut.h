@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "cone_tracker/vision/colour_model.h"
+
 namespace cone_tracker {
 
 // Bounds of (3.22). Hue in degrees on [0, 360], as the parameters give it (the
@@ -43,6 +45,10 @@ class ColorLut {
   // Throws std::invalid_argument with Validate()'s message on bad bounds.
   void Build(const HsiBounds& bounds);
   const HsiBounds& bounds() const { return bounds_; }
+  // Fills the table from a learned model instead (~50 ms); a later Build() refills from bounds.
+  void BuildFromModel(const ColourModel& model);
+  // The model's file when the table came from one, else "".
+  const std::string& model_path() const { return model_path_; }
 
   bool IsCone(uint8_t r, uint8_t g, uint8_t b) const {
     const uint32_t i = (uint32_t(r) << 16) | (uint32_t(g) << 8) | b;
@@ -52,6 +58,7 @@ class ColorLut {
  private:
   void Fill();
   HsiBounds bounds_;
+  std::string model_path_;
   std::vector<uint64_t> bits_;
 };
 

@@ -15,6 +15,7 @@
 #include "cone_tracker/vision/blobs.h"
 #include "cone_tracker/vision/color_lut.h"
 #include "cone_tracker/vision/cone_outline.h"
+#include "cone_tracker/vision/cone_shape.h"
 #include "cone_tracker/vision/cone_templates.h"
 
 namespace cone_tracker {
@@ -39,11 +40,20 @@ std::string PeakRefinementName(PeakRefinement r);
 
 struct SegmenterConfig {
   HsiBounds hsi;
+  // A learned colour table (colour_model.h, written by calibrate_cone_colour) used instead of the
+  // HSI bounds when set; "" keeps the bounds.
+  std::string colour_model;
   int pyramid_levels = 2;        // 3.1.5.2: down-sample twice
   int roi_margin_px = 8;         // full-resolution margin around the pyramid ROI
   int min_fragment_area_px = 4;  // smaller blobs are artifacts, dropped before merging
   double merge_lateral_frac = 0.25;
   double merge_gap_frac = 0.5;
+  // Up to this gap (times the larger fragment's major axis) fragments join across a white or silver
+  // band: bright (max channel >= band_min_value) unsaturated (min channel >= (1 - band_max_sat) * max)
+  // pixels over most of the gap. 0: no band merging.
+  double merge_band_gap_frac = 0.0;
+  int band_min_value = 90;
+  double band_max_sat = 0.45;
   // Gates (3.1.5.3).
   double min_area_px = 30.0;
   double max_area_px = 200000.0;
@@ -66,6 +76,8 @@ struct SegmenterConfig {
   // overlapping in the image, a cone partly hidden) is rejected with
   // kGateOutline rather than measured wrongly. Off: it keeps the line search.
   bool reject_bad_outline = true;
+  // The silhouette must be a cone's (cone_shape.h): kGateShape otherwise.
+  ConeShapeConfig shape;
   double template_search_px = 4.0;  // kTemplates: apex offsets tried, +- this around the line search's
 
   std::string Validate() const;
@@ -81,6 +93,7 @@ enum GateBits : uint32_t {
   kGateUndistort = 1u << 5,
   kGateTilt = 1u << 6,
   kGateOutline = 1u << 7,  // the outline is not one cone's (OutlineConfig)
+  kGateShape = 1u << 8,    // not a cone's silhouette: no taper, crooked edges or holes (cone_shape.h)
 };
 
 // Names of the set bits ("area", "border", ...; an unknown bit as "bitN").
@@ -119,7 +132,8 @@ class Segmenter {
  public:
   // Throws std::invalid_argument naming the field on a bad config.
   explicit Segmenter(const SegmenterConfig& config);
-  // Rebuilds the colour table only when the HSI bounds changed.
+  // Rebuilds the colour table only when the HSI bounds or the colour model's path changed. Throws
+  // std::invalid_argument naming the model file, line and field when the model does not load.
   void SetConfig(const SegmenterConfig& config);
   const SegmenterConfig& config() const { return config_; }
 
@@ -138,7 +152,12 @@ class Segmenter {
 
   SegmenterConfig config_;
   ColorLut lut_;
-  std::vector<uint8_t> rgb_;                          // debayered frame (bayer input only)
+  // Whether the pixels between two fragments are a white band (blobs.h, BandTest).
+  bool IsBand(const Eigen::Vector2d& from, const Eigen::Vector2d& to, double half_width_px) const;
+
+  std::vector<uint8_t> rgb_;            // debayered frame (bayer input only)
+  const uint8_t* frame_rgb_ = nullptr;  // the frame of the running Process(), RGB
+  int frame_step_ = 0, frame_w_ = 0, frame_h_ = 0;
   std::vector<uint8_t> mask_;                         // full-size, zero outside the ROI
   std::shared_ptr<const ConeTemplateSet> templates_;  // built at start-up for kTemplates
 };
