@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Publishes the camera-IMU rotation (thesis 3.2.2) as a static tf.
+"""Publishes the camera-IMU rotation (thesis 3.2.2) and lever arm as a static tf.
 
 Usage: camera_imu_static_tf.py [--check] CAMERA_IMU_YAML [GYRO_CALIBRATION_YAML]
 The first file is calibrate_camera_imu's output (camera_imu: {parent_frame, child_frame,
@@ -24,6 +24,10 @@ CAMERA_IMU_KEYS = ["parent_frame", "child_frame", "translation_m", "rotation_xyz
                    "poses"]
 
 
+# A lever arm longer than this is a broken calibration (pose_ekf refuses it too).
+MAX_LEVER_ARM_M = 1.0
+
+
 def read_camera_imu(path):
     """(parent_frame, child_frame, translation_m, rotation_xyzw) from the file; raises FileError."""
     root = load_yaml_file(path)
@@ -35,6 +39,11 @@ def read_camera_imu(path):
     parent = string(path, c, "camera_imu", "parent_frame", "camera_optical")
     child = string(path, c, "camera_imu", "child_frame", "imu")
     t = numbers(path, c, "camera_imu", "translation_m", 3, [0.0, 0.0, 0.0])
+    length = math.sqrt(sum(v * v for v in t))
+    if length > MAX_LEVER_ARM_M:  # pose_ekf's kMaxLeverArmM
+        fail(path, c, "camera_imu.translation_m",
+             "is the IMU's origin in %s in metres; %s is %.3g m long, more than %g m: not a rig (centimetres?)"
+             % ("camera_optical", t, length, MAX_LEVER_ARM_M), "translation_m")
     q = numbers(path, c, "camera_imu", "rotation_xyzw", 4)
     norm = math.sqrt(sum(v * v for v in q))
     if abs(norm - 1.0) > 1e-3:
@@ -86,7 +95,7 @@ def main(argv):
     r.x, r.y, r.z, r.w = q
     broadcaster = tf2_ros.StaticTransformBroadcaster()
     broadcaster.sendTransform(msg)
-    rospy.loginfo("static tf %s -> %s from %s: rotation %s", parent, child, path, q)
+    rospy.loginfo("static tf %s -> %s from %s: rotation %s, translation %s m", parent, child, path, q, t)
     rospy.spin()
     return 0
 

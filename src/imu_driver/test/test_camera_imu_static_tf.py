@@ -51,6 +51,10 @@ class CameraImuStaticTf(unittest.TestCase):
         path = write("nan.yaml", b"camera_imu:\n  rotation_xyzw: [.nan, 0, 0, 1]\n")
         self.refused(path, path + ":2: camera_imu.rotation_xyzw: must be a list of 4 finite numbers")
 
+    def test_absurd_lever_arm(self):
+        path = write("lever.yaml", b"camera_imu:\n  rotation_xyzw: [0, 0, 0, 1]\n  translation_m: [2, 8, -6]\n")
+        self.refused(path, path + ":3: camera_imu.translation_m: is the IMU's origin", "more than 1 m")
+
     def test_random_bytes(self):
         path = write("random.yaml", bytes([0xfe, 0xff, 0x00, 0x13, 0x80]) + b"garbage")
         err = self.refused(path, path + ": not a text file (invalid UTF-8 at byte 0); expected YAML")

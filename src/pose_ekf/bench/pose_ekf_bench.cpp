@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "pose_ekf/core/measurement_buffer.h"
@@ -99,7 +100,9 @@ void Print(const char* name, double value, const char* unit) {
 int main() {
   pose_ekf_test::RigSimConfig sim;
   sim.duration_s = 60.0;
-  const std::vector<Event> events = pose_ekf_test::GenerateRig(sim);
+  std::vector<Event> events = pose_ekf_test::GenerateRig(sim);
+  // The rig's 10 cm camera-IMU lever arm (rig_sim's mount), modelled by default.
+  for (Event& e : events) e.imu.p_imu_in_camera_m = Eigen::Vector3d(0.02, 0.08, -0.06);
   pose_ekf::EkfConfig config;
   config.accel_gate_m_s2 = 0.0;  // every sample runs both IMU updates: the worst case
   std::printf("pose_ekf_bench: %zu events (60 s: camera 30 Hz, IMU 100 Hz), 16 states\n", events.size());
@@ -181,7 +184,14 @@ int main() {
       {"joseph", [](pose_ekf::EkfConfig* c) { c->joseph_update = true; }},
       {"gyro_bias", [](pose_ekf::EkfConfig* c) { c->estimate_gyro_bias = true; }},
       {"exact_quat", [](pose_ekf::EkfConfig* c) { c->quat_integration = pose_ekf::QuatIntegration::kExact; }},
+      {"lever_arm_accel_bias", [](pose_ekf::EkfConfig* c) { c->estimate_accel_bias = true; }},
+      {"lever_arm_both_biases",
+       [](pose_ekf::EkfConfig* c) {
+         c->estimate_accel_bias = true;
+         c->estimate_gyro_bias = true;
+       }},
   };
+  double lever_bias_imu = 0.0;
   for (const Variant& v : variants) {
     pose_ekf::EkfConfig vc = config;
     v.apply(&vc);
@@ -197,6 +207,7 @@ int main() {
     char name[96];
     std::snprintf(name, sizeof(name), "%s_imu_update_median", v.name);
     Print(name, Median(imu_us), "us");
+    if (std::string(v.name) == "lever_arm_accel_bias") lever_bias_imu = Median(imu_us);
     std::snprintf(name, sizeof(name), "%s_camera_update_median", v.name);
     Print(name, Median(cam_us), "us");
     std::snprintf(name, sizeof(name), "%s_imu_update_ratio_vs_default", v.name);
@@ -204,5 +215,7 @@ int main() {
   }
   std::printf("targets (issue 6): imu <= 10 us %s, camera <= 20 us %s\n", imu <= 10.0 ? "met" : "MISSED",
               cam <= 20.0 ? "met" : "MISSED");
+  std::printf("target (issue 16): imu with the lever arm and accelerometer bias <= 10 us %s\n",
+              lever_bias_imu <= 10.0 ? "met" : "MISSED");
   return 0;
 }

@@ -120,5 +120,25 @@ TEST(Adapter, Rep145MissingGyroIsNotUsed) {
   EXPECT_LT((m.accel_camera_m_s2 - kQCameraImu * Eigen::Vector3d(0, 0, 9.8)).norm(), 1e-12);
 }
 
+// The tf's translation is the lever arm: it reaches the measurement, and one longer than 1 m is
+// refused with the tf and the calibration field named.
+TEST(Adapter, LeverArmFromTheTfAndAbsurdOnesRefused) {
+  pose_ekf::ImuMeasurement m;
+  sensor_msgs::Imu msg;
+  msg.header.frame_id = "imu";
+  msg.linear_acceleration.z = 9.8;
+  std::string why;
+  const Eigen::Vector3d r(0.02, 0.08, -0.06);
+  ASSERT_EQ(pose_ekf::ImuFromMsg(msg, kQCameraImu, &m, &why, r), pose_ekf::ConversionResult::kOk);
+  EXPECT_EQ(m.p_imu_in_camera_m, r);
+  EXPECT_EQ(pose_ekf::CheckLeverArm(r, "camera_optical", "imu"), "");
+  EXPECT_EQ(pose_ekf::CheckLeverArm(Eigen::Vector3d(0.0, 0.999, 0.0), "camera_optical", "imu"), "");
+  const std::string refused = pose_ekf::CheckLeverArm(Eigen::Vector3d(0.0, 1.2, 0.0), "camera_optical", "imu");
+  EXPECT_NE(refused.find("camera_imu.translation_m"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("camera_optical -> imu"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("1.2 m"), std::string::npos) << refused;
+  EXPECT_NE(pose_ekf::CheckLeverArm(Eigen::Vector3d(NAN, 0.0, 0.0), "camera_optical", "imu"), "");
+}
+
 }  // namespace
 }  // namespace pose_ekf_test

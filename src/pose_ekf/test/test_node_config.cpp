@@ -78,7 +78,15 @@ TEST(NodeConfig, TheTableHasEveryParameterTheLoaderRead) {
                                        "cone_gate_probability",
                                        "cone_joint_probability",
                                        "reacquire_sigma_p_m",
-                                       "layout_file"};
+                                       "layout_file",
+                                       "model_lever_arm",
+                                       "alpha_from_gyro",
+                                       "sigma_angular_accel_rad_s2",
+                                       "estimate_accel_bias",
+                                       "sigma_accel_bias_m_s2_per_sqrt_s",
+                                       "init_sigma_accel_bias_m_s2",
+                                       "velocity_time_constant_s",
+                                       "accel_time_constant_s"};
   std::sort(names.begin(), names.end());
   std::sort(expected.begin(), expected.end());
   EXPECT_EQ(names, expected);
@@ -101,7 +109,11 @@ TEST(NodeConfig, EveryKeyFillsItsField) {
                                  "init_sigma_omega_rad_s: 1.5\ninit_sigma_v_m_s: 0.6\ninit_sigma_a_m_s2: 2.5\n"
                                  "init_sigma_gyro_bias_rad_s: 0.03\ninit_from_gravity: true\n"
                                  "init_sigma_tilt_rad: 0.06\ninit_sigma_heading_rad: 0.2\ninit_sigma_p_m: 1.2\n"
-                                 "max_delay_s: 0.3\ntime_jump_reset_s: 0.6\nmax_predict_step_s: 0.01\n");
+                                 "max_delay_s: 0.3\ntime_jump_reset_s: 0.6\nmax_predict_step_s: 0.01\n"
+                                 "model_lever_arm: false\nalpha_from_gyro: false\nsigma_angular_accel_rad_s2: 7.5\n"
+                                 "estimate_accel_bias: true\nsigma_accel_bias_m_s2_per_sqrt_s: 0.002\n"
+                                 "init_sigma_accel_bias_m_s2: 0.3\nvelocity_time_constant_s: 2.5\n"
+                                 "accel_time_constant_s: 0.4\n");
   const NodeConfig c = pose_ekf::LoadConfigFile(path);
   EXPECT_EQ(c.cones_frame, "map");
   EXPECT_EQ(c.camera_frame, "cam");
@@ -113,6 +125,14 @@ TEST(NodeConfig, EveryKeyFillsItsField) {
   EXPECT_EQ(c.config_file, "noted.yaml");
   const pose_ekf::EkfConfig& e = c.ekf;
   EXPECT_EQ(e.sigma_q_per_sqrt_s, 0.002);
+  EXPECT_FALSE(e.model_lever_arm);
+  EXPECT_FALSE(e.alpha_from_gyro);
+  EXPECT_EQ(e.sigma_angular_accel_rad_s2, 7.5);
+  EXPECT_TRUE(e.estimate_accel_bias);
+  EXPECT_EQ(e.sigma_accel_bias_m_s2_per_sqrt_s, 0.002);
+  EXPECT_EQ(e.init_sigma_accel_bias_m_s2, 0.3);
+  EXPECT_EQ(e.velocity_time_constant_s, 2.5);
+  EXPECT_EQ(e.accel_time_constant_s, 0.4);
   EXPECT_EQ(e.sigma_omega_rad_s_per_sqrt_s, 2.5);
   EXPECT_EQ(e.sigma_p_m_per_sqrt_s, 0.003);
   EXPECT_EQ(e.sigma_v_m_s_per_sqrt_s, 0.04);
@@ -209,7 +229,7 @@ TEST(NodeConfig, ReconfigureRoundTripIsTheIdentity) {
   for (const std::string& name : names) {
     EXPECT_EQ(pose_ekf::Params().Get(back, name), pose_ekf::Params().Get(c, name)) << name;
   }
-  EXPECT_EQ(names.size(), 16u);  // PoseEkf.cfg's parameters
+  EXPECT_EQ(names.size(), 18u);  // PoseEkf.cfg's parameters
   pose_ekf::ApplyModes(&back);
   EXPECT_EQ(back.ekf.accel_mode, AccelMode::kOff);
   EXPECT_EQ(back.ekf.camera_update, pose_ekf::CameraUpdate::kPose);

@@ -114,6 +114,7 @@ std::vector<Event> Generate(const rig_sim::Scenario& s, uint64_t noise_seed, con
     e.imu.stamp_s = e.stamp_s;
     e.imu.omega_camera_rad_s = R_camera_imu * sample.omega_imu_rad_s;
     e.imu.accel_camera_m_s2 = R_camera_imu * sample.accel_imu_m_s2;
+    e.imu.p_imu_in_camera_m = s.imu.p_imu_in_camera_m;  // the lever arm, from the same tf
     events.push_back(e);
   }
   return events;

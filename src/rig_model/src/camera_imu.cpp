@@ -69,6 +69,11 @@ CameraImuExtrinsics LoadCameraImuFile(const std::string& path) {
   if (e.parent_frame.empty()) r.Fail(c["parent_frame"], "camera_imu.parent_frame", "must not be empty");
   if (e.child_frame.empty()) r.Fail(c["child_frame"], "camera_imu.child_frame", "must not be empty");
   if (c["translation_m"]) e.p_imu_in_camera_m = ReadVector(r, c, "camera_imu", "translation_m", 3);
+  if (e.p_imu_in_camera_m.norm() > kMaxLeverArmM) {
+    r.Fail(c["translation_m"], "camera_imu.translation_m",
+           "is the IMU's origin in the camera frame in metres; " + std::to_string(e.p_imu_in_camera_m.norm()) +
+               " m is longer than 1 m: not a rig (centimetres?)");
+  }
   const Eigen::VectorXd q = ReadVector(r, c, "camera_imu", "rotation_xyzw", 4);
   // The tolerance of camera_imu_static_tf.py: a zero or unnormalised quaternion is a broken file.
   if (std::abs(q.norm() - 1.0) > 1e-3) {

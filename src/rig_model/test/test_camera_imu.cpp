@@ -53,6 +53,13 @@ TEST(CameraImu, BadFilesAreRefusedAndNamed) {
         WriteTestFile("camera_imu.yaml", "camera_imu:\n  rotation_xyzw: [0, 0, 0, 1]\n  translation_m: [1, 2]\n"));
   });
   EXPECT_NE(len.find("camera_imu.translation_m: must be a list of 3 numbers"), std::string::npos) << len;
+  // A lever arm in centimetres written as metres: 12 m is no rig.
+  const std::string absurd = ErrorOf([] {
+    LoadCameraImuFile(
+        WriteTestFile("camera_imu.yaml", "camera_imu:\n  rotation_xyzw: [0, 0, 0, 1]\n  translation_m: [2, 8, -6]\n"));
+  });
+  EXPECT_NE(absurd.find(":3: camera_imu.translation_m: is the IMU's origin"), std::string::npos) << absurd;
+  EXPECT_NE(absurd.find("longer than 1 m"), std::string::npos) << absurd;
 }
 
 }  // namespace

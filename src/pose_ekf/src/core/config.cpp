@@ -33,6 +33,11 @@ std::string EkfConfig::Validate() const {
   Check(err, "init_sigma_tilt_rad", init_sigma_tilt_rad, 0.0, false);
   Check(err, "init_sigma_heading_rad", init_sigma_heading_rad, 0.0, false);
   Check(err, "init_sigma_p_m", init_sigma_p_m, 0.0, false);
+  Check(err, "sigma_angular_accel_rad_s2", sigma_angular_accel_rad_s2, 0.0, true);
+  Check(err, "sigma_accel_bias_m_s2_per_sqrt_s", sigma_accel_bias_m_s2_per_sqrt_s, 0.0, true);
+  Check(err, "init_sigma_accel_bias_m_s2", init_sigma_accel_bias_m_s2, 0.0, false);
+  Check(err, "velocity_time_constant_s", velocity_time_constant_s, 0.0, true);
+  Check(err, "accel_time_constant_s", accel_time_constant_s, 0.0, true);
   Check(err, "max_delay_s", max_delay_s, 0.0, true);
   Check(err, "time_jump_reset_s", time_jump_reset_s, 0.0, false);
   Check(err, "max_predict_step_s", max_predict_step_s, 0.0, false);

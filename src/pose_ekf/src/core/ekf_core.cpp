@@ -67,16 +67,21 @@ void EkfCore::SetConfig(const EkfConfig& config) {
   camera_gate_chi2_ =
       config_.camera_gate_chi2 > 0.0 ? config_.camera_gate_chi2 : std::numeric_limits<double>::infinity();
   SetConeGates();
-  if (initialized_ && StateSize(config_) != s_.x.size()) {
-    config_.estimate_gyro_bias = s_.x.size() > kBaseStates;  // takes effect at the next Initialize()
+  if (initialized_) {  // the state's layout takes effect at the next Initialize()
+    config_.estimate_gyro_bias = has_gyro_bias_;
+    config_.estimate_accel_bias = has_accel_bias_;
   }
 }
 
 bool EkfCore::Initialize(const CameraMeasurement& m) {
   if (!PoseUsable(m) || !std::isfinite(m.stamp_s)) return false;
   const int n = StateSize(config_);
+  has_gyro_bias_ = config_.estimate_gyro_bias;
+  has_accel_bias_ = config_.estimate_accel_bias;
   s_.stamp_s = m.stamp_s;
   s_.x = StateVector::Zero(n);
+  s_.last_gyro_stamp_s = -1.0;
+  s_.alpha_camera_rad_s2.setZero();
   s_.x.segment<4>(kQ) = m.T_cones_camera.q.normalized();
   s_.x.segment<3>(kP) = m.T_cones_camera.t;
   s_.P = StateMatrix::Zero(n, n);
@@ -95,7 +100,9 @@ void EkfCore::InitializeUnmeasured(int n) {
   set_diag(kW, config_.init_sigma_omega_rad_s);
   set_diag(kV, config_.init_sigma_v_m_s);
   set_diag(kA, config_.init_sigma_a_m_s2);
-  if (n > kBaseStates) set_diag(kB, config_.init_sigma_gyro_bias_rad_s);
+  if (config_.estimate_gyro_bias) set_diag(kB, config_.init_sigma_gyro_bias_rad_s);
+  if (config_.estimate_accel_bias) set_diag(AccelBiasIndex(config_), config_.init_sigma_accel_bias_m_s2);
+  (void)n;
 }
 
 bool EkfCore::InitializeFromGravity(double stamp_s, const Eigen::Vector3d& f) {
@@ -107,8 +114,12 @@ bool EkfCore::InitializeFromGravity(double stamp_s, const Eigen::Vector3d& f) {
   const pose_math::Quat q =
       pose_math::ThesisFromEigen(Eigen::Quaterniond::FromTwoVectors(f.normalized(), Eigen::Vector3d::UnitZ()));
   const int n = StateSize(config_);
+  has_gyro_bias_ = config_.estimate_gyro_bias;
+  has_accel_bias_ = config_.estimate_accel_bias;
   s_.stamp_s = stamp_s;
   s_.x = StateVector::Zero(n);
+  s_.last_gyro_stamp_s = -1.0;
+  s_.alpha_camera_rad_s2.setZero();
   s_.x.segment<4>(kQ) = q;
   s_.P = StateMatrix::Zero(n, n);
   // Fixed-axis (cones frame) perturbation: small tilt about x, y; heading about z unknown.
@@ -133,8 +144,9 @@ void EkfCore::Predict(double stamp_s) {
 }
 
 void EkfCore::PredictStep(double dt) {
-  const StateMatrix F = TransitionJacobian(s_.x, dt, config_.quat_integration);  // (5.22)
-  s_.x = PropagateState(s_.x, dt, config_.quat_integration);                     // (5.20)
+  const double tau_v = config_.velocity_time_constant_s, tau_a = config_.accel_time_constant_s;
+  const StateMatrix F = TransitionJacobian(s_.x, dt, config_.quat_integration, tau_v, tau_a);  // (5.22)
+  s_.x = PropagateState(s_.x, dt, config_.quat_integration, tau_v, tau_a);                     // (5.20)
   NormalizeQuat(s_.x);
   s_.P = F * s_.P * F.transpose() + ProcessNoise(config_, static_cast<int>(s_.x.size()), dt);  // (5.14)
   pose_math::SymmetrizeCovariance(s_.P);
@@ -210,7 +222,7 @@ UpdateResult EkfCore::UpdateGyro(const ImuMeasurement& m, double* nis) {
   Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, kMaxStates> H = Eigen::MatrixXd::Zero(3, n);
   H.block<3, 3>(0, kW).setIdentity();       // (5.29)
   Eigen::Vector3d h = s_.x.segment<3>(kW);  // (5.28)
-  if (n > kBaseStates) {
+  if (has_gyro_bias_) {
     H.block<3, 3>(0, kB).setIdentity();  // z = ω + b
     h += s_.x.segment<3>(kB);
   }
@@ -219,27 +231,49 @@ UpdateResult EkfCore::UpdateGyro(const ImuMeasurement& m, double* nis) {
           ? m.gyro_cov
           : Eigen::Matrix3d(config_.sigma_gyro_rad_s * config_.sigma_gyro_rad_s * Eigen::Matrix3d::Identity());
   const Eigen::Vector3d y = m.omega_camera_rad_s - h;  // (5.27)
-  return Update<3>(y, H, R, nis);
+  const UpdateResult result = Update<3>(y, H, R, nis);
+  if (result == UpdateResult::kApplied) NoteAngularAcceleration();
+  return result;
 }
 
 UpdateResult EkfCore::UpdateAccel(const ImuMeasurement& m, double* nis) {
   if (config_.accel_mode == AccelMode::kOff || !m.has_accel) return UpdateResult::kDisabled;
-  if (!m.accel_camera_m_s2.allFinite() || (m.has_covariance && !m.accel_cov.allFinite())) {
+  if (!m.accel_camera_m_s2.allFinite() || !m.p_imu_in_camera_m.allFinite() ||
+      (m.has_covariance && !m.accel_cov.allFinite())) {
     return UpdateResult::kRejectedNonFinite;
   }
-  // Human motion: use the accelerometer only while it measures about g (5.34).
-  if (config_.accel_gate_m_s2 > 0.0 &&
-      std::abs(m.accel_camera_m_s2.norm() - config_.gravity_m_s2) > config_.accel_gate_m_s2) {
-    return UpdateResult::kGated;
+  const Eigen::Vector3d r = config_.model_lever_arm ? m.p_imu_in_camera_m : Eigen::Vector3d::Zero();
+  const int ba = has_accel_bias_ ? AccelBiasIndex(config_) : -1;
+  // z (5.30) - h(x): (5.36) for orientation only, (5.39) with acceleration, plus
+  // the lever arm's centripetal term and the bias.
+  Eigen::Vector3d h = AccelModel(s_.x, config_.gravity_m_s2, config_.accel_mode, r, ba);
+  if (config_.alpha_from_gyro) h += s_.alpha_camera_rad_s2.cross(r);  // α an input, not a state
+  // Human motion: use the accelerometer only while it measures about g (5.34),
+  // once the modelled lever-arm and bias terms are taken out.
+  if (config_.accel_gate_m_s2 > 0.0) {
+    const Eigen::Vector3d f = m.accel_camera_m_s2 - (h - AccelModel(s_.x, config_.gravity_m_s2, config_.accel_mode));
+    if (std::abs(f.norm() - config_.gravity_m_s2) > config_.accel_gate_m_s2) return UpdateResult::kGated;
   }
-  // z (5.30) - h(x): (5.36) for orientation only, (5.39) with acceleration.
-  const Eigen::Vector3d y = m.accel_camera_m_s2 - AccelModel(s_.x, config_.gravity_m_s2, config_.accel_mode);
-  const auto H = AccelJacobian(s_.x, config_.gravity_m_s2, config_.accel_mode);
-  const Eigen::Matrix3d R =
+  const Eigen::Vector3d y = m.accel_camera_m_s2 - h;
+  const auto H = AccelJacobian(s_.x, config_.gravity_m_s2, config_.accel_mode, r, ba);
+  Eigen::Matrix3d R =
       (config_.use_message_imu_covariance && m.has_covariance)
           ? m.accel_cov
           : Eigen::Matrix3d(config_.sigma_accel_m_s2 * config_.sigma_accel_m_s2 * Eigen::Matrix3d::Identity());
+  if (config_.model_lever_arm) R += AccelLeverArmNoise(r, config_.sigma_angular_accel_rad_s2);  // α×r
   return Update<3>(y, H, R, nis);
+}
+
+// α for the lever arm: the change of the estimated ω over the last gyro period
+// (longer gaps than 0.1 s, or none yet: α = 0).
+void EkfCore::NoteAngularAcceleration() {
+  const Eigen::Vector3d w = s_.x.segment<3>(kW);
+  const double dt = s_.stamp_s - s_.last_gyro_stamp_s;
+  s_.alpha_camera_rad_s2 = (s_.last_gyro_stamp_s >= 0.0 && dt > 1e-4 && dt <= 0.1)
+                               ? Eigen::Vector3d((w - s_.omega_at_last_gyro_rad_s) / dt)
+                               : Eigen::Vector3d::Zero();
+  s_.omega_at_last_gyro_rad_s = w;
+  s_.last_gyro_stamp_s = s_.stamp_s;
 }
 
 pose_math::PoseWithCovariance EkfCore::Pose() const {
@@ -255,8 +289,13 @@ pose_math::PoseWithCovariance EkfCore::Pose() const {
 }
 
 Eigen::Vector3d EkfCore::gyro_bias_rad_s() const {
-  if (!initialized_ || s_.x.size() <= kBaseStates) return Eigen::Vector3d::Zero();
+  if (!initialized_ || !has_gyro_bias_) return Eigen::Vector3d::Zero();
   return s_.x.segment<3>(kB);
+}
+
+Eigen::Vector3d EkfCore::accel_bias_m_s2() const {
+  if (!initialized_ || !has_accel_bias_) return Eigen::Vector3d::Zero();
+  return s_.x.segment<3>(AccelBiasIndex(config_));
 }
 
 }  // namespace pose_ekf

@@ -254,12 +254,13 @@ AddResult MeasurementBuffer::ReinitializeFrom(size_t i) {
 }
 
 // A camera that disagrees with the filter says nothing about the gyro: the bias learned so far (and its
-// variance) survives a re-initialisation, when both states estimate it.
+// variance) survives a re-initialisation, when both states estimate it; so does the accelerometer bias.
 void MeasurementBuffer::KeepGyroBias(const FilterState& before) {
   FilterState s = ekf_.state();
-  if (before.x.size() != s.x.size() || s.x.size() <= kBaseStates) return;
-  s.x.segment<3>(kB) = before.x.segment<3>(kB);
-  s.P.block<3, 3>(kB, kB) = before.P.block<3, 3>(kB, kB);
+  const int n = static_cast<int>(s.x.size()), nb = n - kBaseStates;
+  if (before.x.size() != s.x.size() || nb <= 0) return;
+  s.x.segment(kB, nb) = before.x.segment(kB, nb);
+  s.P.block(kB, kB, nb, nb) = before.P.block(kB, kB, nb, nb);
   ekf_.Restore(s);
 }
 

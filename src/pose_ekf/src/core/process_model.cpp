@@ -43,9 +43,19 @@ Eigen::Matrix<double, 3, 4> RotateInverseJacobian(const Quat& q, const Eigen::Ve
   return J;
 }
 
+// exp(-dt/τ), 1 for τ <= 0 (no damping).
+double Decay(double dt, double tau) { return tau > 0.0 ? std::exp(-dt / tau) : 1.0; }
+
+// [v]× with [v]× u = v × u.
+Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return m;
+}
+
 }  // namespace
 
-StateVector PropagateState(const StateVector& x, double dt, QuatIntegration integration) {
+StateVector PropagateState(const StateVector& x, double dt, QuatIntegration integration, double tau_v, double tau_a) {
   StateVector y = x;
   const Quat q = x.segment<4>(kQ);
   const Eigen::Vector3d w = x.segment<3>(kW);
@@ -56,13 +66,16 @@ StateVector PropagateState(const StateVector& x, double dt, QuatIntegration inte
     const ExactCoefficients e = Exact(w, dt);
     y.segment<4>(kQ) = e.c * q + e.s * q_dot_dir;  // (2.71)
   }
-  // Constant-acceleration translation (5.19); ω, a (and b) are random walks.
+  // Constant-acceleration translation (5.19); ω, a (and b) are random walks;
+  // v and a optionally decay towards 0 (a hand that stops).
   y.segment<3>(kP) = x.segment<3>(kP) + dt * x.segment<3>(kV) + 0.5 * dt * dt * x.segment<3>(kA);
-  y.segment<3>(kV) = x.segment<3>(kV) + dt * x.segment<3>(kA);
+  y.segment<3>(kV) = Decay(dt, tau_v) * (x.segment<3>(kV) + dt * x.segment<3>(kA));
+  y.segment<3>(kA) = Decay(dt, tau_a) * x.segment<3>(kA);
   return y;
 }
 
-StateMatrix TransitionJacobian(const StateVector& x, double dt, QuatIntegration integration) {
+StateMatrix TransitionJacobian(const StateVector& x, double dt, QuatIntegration integration, double tau_v,
+                               double tau_a) {
   const int n = static_cast<int>(x.size());
   StateMatrix F = StateMatrix::Identity(n, n);  // (5.22)
   const Quat q = x.segment<4>(kQ);
@@ -81,7 +94,10 @@ StateMatrix TransitionJacobian(const StateVector& x, double dt, QuatIntegration 
   }
   F.block<3, 3>(kP, kV) = dt * Eigen::Matrix3d::Identity();
   F.block<3, 3>(kP, kA) = 0.5 * dt * dt * Eigen::Matrix3d::Identity();
-  F.block<3, 3>(kV, kA) = dt * Eigen::Matrix3d::Identity();
+  const double dv = Decay(dt, tau_v);
+  F.block<3, 3>(kV, kV) = dv * Eigen::Matrix3d::Identity();
+  F.block<3, 3>(kV, kA) = dv * dt * Eigen::Matrix3d::Identity();
+  F.block<3, 3>(kA, kA) = Decay(dt, tau_a) * Eigen::Matrix3d::Identity();
   return F;
 }
 
@@ -92,8 +108,12 @@ StateMatrix ProcessNoise(const EkfConfig& c, int n, double dt) {
   d.segment<3>(kP).setConstant(c.sigma_p_m_per_sqrt_s * c.sigma_p_m_per_sqrt_s);
   d.segment<3>(kV).setConstant(c.sigma_v_m_s_per_sqrt_s * c.sigma_v_m_s_per_sqrt_s);
   d.segment<3>(kA).setConstant(c.sigma_a_m_s2_per_sqrt_s * c.sigma_a_m_s2_per_sqrt_s);
-  if (n > kBaseStates) {
+  if (c.estimate_gyro_bias && n >= kB + 3) {
     d.segment<3>(kB).setConstant(c.sigma_gyro_bias_rad_s_per_sqrt_s * c.sigma_gyro_bias_rad_s_per_sqrt_s);
+  }
+  const int ba = AccelBiasIndex(c);
+  if (ba >= 0 && n >= ba + 3) {
+    d.segment<3>(ba).setConstant(c.sigma_accel_bias_m_s2_per_sqrt_s * c.sigma_accel_bias_m_s2_per_sqrt_s);
   }
   return (dt * d).asDiagonal();  // (5.23)
 }
@@ -115,6 +135,28 @@ Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, kMaxStates> AccelJacobian(const S
   }
   H.block<3, 4>(0, kQ) = RotateInverseJacobian(x.segment<4>(kQ), v);  // (5.37)
   return H;
+}
+
+Eigen::Vector3d AccelModel(const StateVector& x, double g, AccelMode mode, const Eigen::Vector3d& r, int ba) {
+  const Eigen::Vector3d w = x.segment<3>(kW);
+  Eigen::Vector3d h = AccelModel(x, g, mode) + w.cross(w.cross(r));  // centripetal at the IMU
+  if (ba >= 0) h += x.segment<3>(ba);
+  return h;
+}
+
+Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, kMaxStates> AccelJacobian(const StateVector& x, double g, AccelMode mode,
+                                                                         const Eigen::Vector3d& r, int ba) {
+  Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, kMaxStates> H = AccelJacobian(x, g, mode);
+  const Eigen::Vector3d w = x.segment<3>(kW);
+  // ω×(ω×r) = ω (ω·r) - r |ω|²: derivative ω rᵀ + (ω·r) I - 2 r ωᵀ.
+  H.block<3, 3>(0, kW) += w * r.transpose() + w.dot(r) * Eigen::Matrix3d::Identity() - 2.0 * r * w.transpose();
+  if (ba >= 0) H.block<3, 3>(0, ba).setIdentity();
+  return H;
+}
+
+Eigen::Matrix3d AccelLeverArmNoise(const Eigen::Vector3d& r, double sigma) {
+  const Eigen::Matrix3d S = Skew(r);  // α×r = -[r]× α
+  return sigma * sigma * S * S.transpose();
 }
 
 }  // namespace pose_ekf

@@ -101,7 +101,17 @@ const Table& Params() {
       .Add("init_sigma_p_m", [](NodeConfig& c) -> double& { return c.ekf.init_sigma_p_m; })
       .Add("max_delay_s", [](NodeConfig& c) -> double& { return c.ekf.max_delay_s; })
       .Add("time_jump_reset_s", [](NodeConfig& c) -> double& { return c.ekf.time_jump_reset_s; })
-      .Add("max_predict_step_s", [](NodeConfig& c) -> double& { return c.ekf.max_predict_step_s; });
+      .Add("max_predict_step_s", [](NodeConfig& c) -> double& { return c.ekf.max_predict_step_s; })
+      // The lever arm, the accelerometer bias and the motion model in camera outages.
+      .Add("model_lever_arm", [](NodeConfig& c) -> bool& { return c.ekf.model_lever_arm; })
+      .Add("alpha_from_gyro", [](NodeConfig& c) -> bool& { return c.ekf.alpha_from_gyro; })
+      .Add("sigma_angular_accel_rad_s2", [](NodeConfig& c) -> double& { return c.ekf.sigma_angular_accel_rad_s2; })
+      .Add("estimate_accel_bias", [](NodeConfig& c) -> bool& { return c.ekf.estimate_accel_bias; })
+      .Add("sigma_accel_bias_m_s2_per_sqrt_s",
+           [](NodeConfig& c) -> double& { return c.ekf.sigma_accel_bias_m_s2_per_sqrt_s; })
+      .Add("init_sigma_accel_bias_m_s2", [](NodeConfig& c) -> double& { return c.ekf.init_sigma_accel_bias_m_s2; })
+      .Add("velocity_time_constant_s", [](NodeConfig& c) -> double& { return c.ekf.velocity_time_constant_s; })
+      .Add("accel_time_constant_s", [](NodeConfig& c) -> double& { return c.ekf.accel_time_constant_s; });
   // clang-format on
   return table;
 }

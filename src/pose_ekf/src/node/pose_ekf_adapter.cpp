@@ -64,8 +64,17 @@ ConversionResult CameraFromMsg(const geometry_msgs::PoseWithCovarianceStamped& m
   return ConversionResult::kOk;
 }
 
+std::string CheckLeverArm(const Eigen::Vector3d& p, const std::string& camera_frame, const std::string& imu_frame) {
+  if (p.allFinite() && p.norm() <= kMaxLeverArmM) return "";
+  std::ostringstream s;
+  s << "the tf " << camera_frame << " -> " << imu_frame << " has a translation (lever arm, camera_imu.translation_m of "
+    << "the camera-IMU calibration) of " << p.norm() << " m [" << p.transpose() << "]; more than " << kMaxLeverArmM
+    << " m is not a rig: IMU samples not used";
+  return s.str();
+}
+
 ConversionResult ImuFromMsg(const sensor_msgs::Imu& msg, const Eigen::Quaterniond& q_camera_imu, ImuMeasurement* out,
-                            std::string* why) {
+                            std::string* why, const Eigen::Vector3d& p_imu_in_camera_m) {
   const Eigen::Matrix3d R = q_camera_imu.toRotationMatrix();
   out->stamp_s = msg.header.stamp.toSec();
   out->has_gyro = msg.angular_velocity_covariance[0] != -1.0;
@@ -74,7 +83,8 @@ ConversionResult ImuFromMsg(const sensor_msgs::Imu& msg, const Eigen::Quaternion
     *why = "IMU message has neither angular velocity nor linear acceleration (both covariances -1)";
     return ConversionResult::kInvalid;
   }
-  // Into the camera frame, origins coincident (3.26).
+  // Into the camera frame's axes (3.26); the origins differ by the lever arm, which the accelerometer model takes.
+  out->p_imu_in_camera_m = p_imu_in_camera_m;
   out->omega_camera_rad_s = R * ToVector(msg.angular_velocity);
   out->accel_camera_m_s2 = R * ToVector(msg.linear_acceleration);
   const Eigen::Matrix3d gyro_cov = ToMatrix<3>(msg.angular_velocity_covariance);
@@ -203,9 +213,9 @@ AddResult PoseEkfAdapter::HandleCamera(const geometry_msgs::PoseWithCovarianceSt
 }
 
 AddResult PoseEkfAdapter::HandleImu(const sensor_msgs::Imu& msg, const Eigen::Quaterniond& q_camera_imu,
-                                    std::string* why) {
+                                    std::string* why, const Eigen::Vector3d& p_imu_in_camera_m) {
   ImuMeasurement m;
-  const ConversionResult c = ImuFromMsg(msg, q_camera_imu, &m, why);
+  const ConversionResult c = ImuFromMsg(msg, q_camera_imu, &m, why, p_imu_in_camera_m);
   if (c != ConversionResult::kOk) return Count(c);
   const AddResult r = buffer_.AddImu(m);
   if (r == AddResult::kRejectedNonFinite) *why = "IMU sample not finite";

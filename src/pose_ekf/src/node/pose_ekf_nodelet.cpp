@@ -38,7 +38,7 @@ class PoseEkfNodelet : public nodelet::Nodelet {
   void OnObservations(const cone_tracker::ConeObservationsConstPtr& msg);
   void OnOutputTimer(const ros::TimerEvent& event);
   void OnReconfigure(PoseEkfConfig& cfg, uint32_t level);
-  bool ImuRotation(const std::string& imu_frame, Eigen::Quaterniond* q_camera_imu);
+  bool ImuRotation(const std::string& imu_frame, Eigen::Quaterniond* q_camera_imu, Eigen::Vector3d* p_imu_in_camera_m);
   void CheckTimeJump();
   void Report(AddResult r, const std::string& why, const char* what);
   void Publish();
@@ -52,6 +52,7 @@ class PoseEkfNodelet : public nodelet::Nodelet {
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   std::unique_ptr<tf2_ros::TransformBroadcaster> tf_broadcaster_;
   std::map<std::string, Eigen::Quaterniond> imu_rotations_;  // static camera-IMU rotation per IMU frame
+  std::map<std::string, Eigen::Vector3d> imu_lever_arms_;    // and its translation, the IMU in the camera frame
   std::unique_ptr<rig_model::WallDiagnostics> diagnostics_;  // first: a refused config is published too
   std::unique_ptr<rig_model::StampRateTask> imu_freq_, camera_freq_, observations_freq_;
   boost::recursive_mutex reconfigure_mutex_;  // lets updateConfig() seed the server safely
@@ -156,6 +157,7 @@ void PoseEkfNodelet::CheckTimeJump() {
     adapter_->Reset();
     adapter_->buffer().TakeResetWarning();
     imu_rotations_.clear();
+    imu_lever_arms_.clear();
     tf_buffer_->clear();
     last_published_stamp_s_ = -1.0;
   }
@@ -212,12 +214,13 @@ void PoseEkfNodelet::OnImu(const sensor_msgs::ImuConstPtr& msg) {
     CheckTimeJump();
     imu_freq_->Tick(msg->header.stamp);
     Eigen::Quaterniond q_camera_imu;
-    if (!ImuRotation(msg->header.frame_id, &q_camera_imu)) {
+    Eigen::Vector3d p_imu_in_camera_m;
+    if (!ImuRotation(msg->header.frame_id, &q_camera_imu, &p_imu_in_camera_m)) {
       ++imu_without_tf_;
       return;
     }
     std::string why;
-    const AddResult r = adapter_->HandleImu(*msg, q_camera_imu, &why);
+    const AddResult r = adapter_->HandleImu(*msg, q_camera_imu, &why, p_imu_in_camera_m);
     Report(r, why, "IMU sample");
     if (r == AddResult::kApplied || r == AddResult::kReplayed) Publish();
   } catch (const std::exception& e) {
@@ -225,8 +228,8 @@ void PoseEkfNodelet::OnImu(const sensor_msgs::ImuConstPtr& msg) {
   }
 }
 
-// The camera-IMU rotation is a static transform (3.2.2): looked up once per IMU frame.
-bool PoseEkfNodelet::ImuRotation(const std::string& imu_frame, Eigen::Quaterniond* q) {
+// The camera-IMU rotation and lever arm are a static transform (3.2.2): looked up once per IMU frame.
+bool PoseEkfNodelet::ImuRotation(const std::string& imu_frame, Eigen::Quaterniond* q, Eigen::Vector3d* p) {
   const std::string& camera_frame = adapter_->config().camera_frame;
   if (imu_frame.empty()) {
     imu_tf_error_ = "IMU message without frame_id";
@@ -235,11 +238,13 @@ bool PoseEkfNodelet::ImuRotation(const std::string& imu_frame, Eigen::Quaternion
   }
   if (imu_frame == camera_frame) {
     *q = Eigen::Quaterniond::Identity();
+    p->setZero();
     return true;
   }
   const auto it = imu_rotations_.find(imu_frame);
   if (it != imu_rotations_.end()) {
     *q = it->second;
+    *p = imu_lever_arms_[imu_frame];
     return true;
   }
   try {
@@ -249,9 +254,19 @@ bool PoseEkfNodelet::ImuRotation(const std::string& imu_frame, Eigen::Quaternion
     const auto tf = tf_buffer_->lookupTransform(camera_frame, imu_frame, ros::Time(0),
                                                 ros::Duration(first ? adapter_->config().tf_timeout_s : 0.0));
     const auto& r = tf.transform.rotation;
+    const auto& t = tf.transform.translation;
+    *p = Eigen::Vector3d(t.x, t.y, t.z);
+    const std::string refused = CheckLeverArm(*p, camera_frame, imu_frame);
+    if (!refused.empty()) {
+      imu_tf_error_ = refused;
+      NODELET_ERROR_THROTTLE(5.0, "pose_ekf: %s", refused.c_str());
+      return false;
+    }
     *q = Eigen::Quaterniond(r.w, r.x, r.y, r.z).normalized();
     imu_rotations_[imu_frame] = *q;
-    NODELET_INFO("pose_ekf: camera-IMU rotation %s <- %s found", camera_frame.c_str(), imu_frame.c_str());
+    imu_lever_arms_[imu_frame] = *p;
+    NODELET_INFO("pose_ekf: camera-IMU rotation %s <- %s found, lever arm [%.3f %.3f %.3f] m", camera_frame.c_str(),
+                 imu_frame.c_str(), p->x(), p->y(), p->z());
     return true;
   } catch (const tf2::TransformException& e) {
     imu_tf_error_ = "no tf " + camera_frame + " <- " + imu_frame + ": " + e.what();

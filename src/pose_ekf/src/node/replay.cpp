@@ -55,15 +55,22 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
   }
   PoseEkfAdapter adapter(config);
   std::map<std::string, Eigen::Quaterniond> rotations;
+  std::map<std::string, Eigen::Vector3d> lever_arms;  // the same tf's translation
   auto imu_rotation = [&](const std::string& frame) {
     auto it = rotations.find(frame);
     if (it != rotations.end()) return it->second;
     Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+    lever_arms[frame] = Eigen::Vector3d::Zero();
     summary.imu_rotation_source = "identity";
     if (!summary.orientation_only && frame != config.camera_frame) {
       try {
-        const auto r = tf.lookupTransform(config.camera_frame, frame, ros::Time(0)).transform.rotation;
+        const auto tr = tf.lookupTransform(config.camera_frame, frame, ros::Time(0)).transform;
+        const auto& r = tr.rotation;
         q = Eigen::Quaterniond(r.w, r.x, r.y, r.z).normalized();
+        const Eigen::Vector3d p(tr.translation.x, tr.translation.y, tr.translation.z);
+        const std::string refused = CheckLeverArm(p, config.camera_frame, frame);
+        if (!refused.empty()) throw std::runtime_error(options.bag_path + ": " + refused);
+        lever_arms[frame] = p;
         summary.imu_rotation_source = "/tf_static " + config.camera_frame + " <- " + frame;
       } catch (const tf2::TransformException& e) {
         log << "ekf_replay: no /tf_static " << config.camera_frame << " <- " << frame
@@ -95,7 +102,8 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
     } else if (SameTopic(m.getTopic(), options.imu_topic)) {
       if (auto msg = m.instantiate<sensor_msgs::Imu>()) {
         ++summary.imu_messages;
-        adapter.HandleImu(*msg, imu_rotation(msg->header.frame_id), &why);
+        const Eigen::Quaterniond q = imu_rotation(msg->header.frame_id);
+        adapter.HandleImu(*msg, q, &why, lever_arms[msg->header.frame_id]);
         write();
       }
     } else if (SameTopic(m.getTopic(), options.observations_topic)) {

@@ -25,10 +25,13 @@ struct CameraImuExtrinsics {
 // given as fixed-axis roll, pitch, yaw in degrees (Rz Ry Rx, 2.19).
 Eigen::Matrix3d MountRotation(const Eigen::Vector3d& mount_error_rpy_deg);
 
+// A lever arm longer than this is refused (pose_ekf and camera_imu_static_tf.py refuse it too).
+constexpr double kMaxLeverArmM = 1.0;
+
 // Reads calibrate_camera_imu's YAML (imu_driver/config/camera_imu.yaml):
 //   camera_imu: {parent_frame, child_frame, translation_m: [x, y, z], rotation_xyzw: [x, y, z, w]}
-// strictly: unknown keys, a missing rotation or a quaternion whose norm is not 1 (to 1e-3) throw
-// FileError naming the file, line and field. The quaternion is normalised.
+// strictly: unknown keys, a translation longer than kMaxLeverArmM, a missing rotation or a quaternion whose norm is not
+// 1 (to 1e-3) throw FileError naming the file, line and field. The quaternion is normalised.
 CameraImuExtrinsics LoadCameraImuFile(const std::string& path);
 // The keys under `camera_imu:` (calibrate_camera_imu writes them all; the first four are the
 // extrinsics, the rest its report, read by people).

@@ -8,7 +8,10 @@
 
 namespace pose_ekf {
 
-enum class QuatIntegration { kFirstOrder, kExact };                    // (2.70) (thesis default) or (2.71)
+enum class QuatIntegration { kFirstOrder, kExact };  // (2.70) (thesis default) or (2.71)
+// A camera-IMU lever arm longer than this is a broken calibration (a rig is centimetres across).
+constexpr double kMaxLeverArmM = 1.0;
+
 enum class AccelMode { kOff, kOrientation, kPositionAndOrientation };  // h, H: (5.36) (5.37) / (5.39) (5.40)
 // What corrects the filter from the camera: the tracker's cone observations, one update per cone
 // (cone_measurement.h), or its single-frame pose (5.24), the thesis's loosely coupled path.
@@ -95,6 +98,27 @@ struct EkfConfig {
   double max_delay_s = 0.2;          // camera frames up to this late are applied at their stamp
   double time_jump_reset_s = 0.5;    // an IMU stamp this far behind the last one is a time jump: reset
   double max_predict_step_s = 0.02;  // longer gaps are predicted in sub-steps (first-order (2.70) needs small dt)
+
+  // The lever arm (beyond the thesis, whose (3.26) takes the origins as
+  // coincident): the IMU at r = ImuMeasurement::p_imu_in_camera_m (from the
+  // camera-IMU tf) feels ω×(ω×r) + α×r on top of (5.39). ω×(ω×r) is modelled
+  // (with its Jacobian). α is not in the state: with alpha_from_gyro it is the
+  // change of the estimated ω between the last two gyro updates (an input, its
+  // error sigma_angular_accel_rad_s2 per axis as measurement noise on α×r);
+  // without it α×r is all noise (handheld turns reach ~10 rad/s²).
+  bool model_lever_arm = true;
+  bool alpha_from_gyro = true;
+  double sigma_angular_accel_rad_s2 = 2.0;
+
+  // Accelerometer bias b_a (camera axes): three more states, z_acc = h + b_a.
+  bool estimate_accel_bias = false;
+  double sigma_accel_bias_m_s2_per_sqrt_s = 1e-3;  // bias random walk
+  double init_sigma_accel_bias_m_s2 = 0.1;
+
+  // Motion model in camera outages (beyond (5.19)): v and a decay as
+  // exp(-dt/τ); 0 keeps the thesis's undamped constant-acceleration model.
+  double velocity_time_constant_s = 0.0;
+  double accel_time_constant_s = 0.0;
 
   // Returns an empty string when valid, otherwise a message naming the member.
   std::string Validate() const;

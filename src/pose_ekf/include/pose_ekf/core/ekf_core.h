@@ -21,6 +21,10 @@ struct FilterState {
   double stamp_s = 0.0;
   StateVector x;
   StateMatrix P;
+  // The lever arm's α (not a state): the change of the estimated ω between the last two gyro updates.
+  Eigen::Vector3d omega_at_last_gyro_rad_s = Eigen::Vector3d::Zero();
+  double last_gyro_stamp_s = -1.0;  // < 0: none yet
+  Eigen::Vector3d alpha_camera_rad_s2 = Eigen::Vector3d::Zero();
 };
 
 class EkfCore {
@@ -29,7 +33,7 @@ class EkfCore {
   explicit EkfCore(const EkfConfig& config);
 
   // Noise and switches may change at run time; the state size may not
-  // (estimate_gyro_bias changes take effect at the next Initialize()).
+  // (estimate_gyro_bias and estimate_accel_bias changes take effect at the next Initialize()).
   void SetConfig(const EkfConfig& config);
   const EkfConfig& config() const { return config_; }
 
@@ -79,6 +83,7 @@ class EkfCore {
   Eigen::Vector3d omega_camera_rad_s() const { return s_.x.segment<3>(kW); }
   Eigen::Vector3d v_cones_m_s() const { return s_.x.segment<3>(kV); }
   Eigen::Vector3d gyro_bias_rad_s() const;
+  Eigen::Vector3d accel_bias_m_s2() const;  // zero unless estimate_accel_bias
 
  private:
   template <int M>
@@ -88,6 +93,7 @@ class EkfCore {
   void PredictStep(double dt_s);
   void InitializeUnmeasured(int n);
   void SetConeGates();  // cone_update.cpp
+  void NoteAngularAcceleration();
 
   EkfConfig config_;
   double camera_gate_chi2_ = 0.0;  // config_.camera_gate_chi2, infinite when off
@@ -96,6 +102,8 @@ class EkfCore {
   std::vector<double> cone_joint_chi2_;  // chi2(6 k) at cone_joint_probability, k = 1..
   FilterState s_;
   bool initialized_ = false;
+  // The bias states of the current state vector (fixed at Initialize()).
+  bool has_gyro_bias_ = false, has_accel_bias_ = false;
 };
 
 }  // namespace pose_ekf

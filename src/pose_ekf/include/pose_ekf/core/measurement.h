@@ -32,6 +32,8 @@ struct ImuMeasurement {
   bool has_accel = true;
   Eigen::Vector3d omega_camera_rad_s = Eigen::Vector3d::Zero();
   Eigen::Vector3d accel_camera_m_s2 = Eigen::Vector3d::Zero();
+  // The IMU's origin in the camera frame (the lever arm, from the tf camera_optical -> imu).
+  Eigen::Vector3d p_imu_in_camera_m = Eigen::Vector3d::Zero();
   // Optional per-sample covariances (used when EkfConfig::use_message_imu_covariance).
   bool has_covariance = false;
   Eigen::Matrix3d gyro_cov = Eigen::Matrix3d::Zero();

@@ -34,11 +34,16 @@ bool QuaternionFarFromUnit(const geometry_msgs::Quaternion& q);
 // Conversions. Anything but kOk comes with a reason in *why.
 ConversionResult CameraFromMsg(const geometry_msgs::PoseWithCovarianceStamped& msg, const std::string& cones_frame,
                                CameraMeasurement* out, std::string* why);
-// q_camera_imu rotates IMU-frame vectors into the camera frame (3.2.2, from tf).
+// q_camera_imu rotates IMU-frame vectors into the camera frame (3.2.2, from tf);
+// p_imu_in_camera_m is the same tf's translation, the lever arm (ImuMeasurement).
 // REP-145: a covariance whose first element is -1 means the field is absent;
 // an all-zero covariance means unknown (the configured sigma is used).
 ConversionResult ImuFromMsg(const sensor_msgs::Imu& msg, const Eigen::Quaterniond& q_camera_imu, ImuMeasurement* out,
-                            std::string* why);
+                            std::string* why, const Eigen::Vector3d& p_imu_in_camera_m = Eigen::Vector3d::Zero());
+// The refusal of an absurd lever arm (longer than kMaxLeverArmM): empty when usable, otherwise a
+// message naming the tf and the calibration field it comes from.
+std::string CheckLeverArm(const Eigen::Vector3d& p_imu_in_camera_m, const std::string& camera_frame,
+                          const std::string& imu_frame);
 
 // cone_tracker/observations -> ConeFrame. The whole message is refused (kInvalid or kNonFinite) for a
 // wrong header.frame_id (not camera_frame), a non-finite stamp, fx or fy not positive and finite,
@@ -63,7 +68,8 @@ class PoseEkfAdapter {
   // Each returns what the buffer did (kRejectedNonFinite or kRejectedInvalid when
   // the message never reached it); *why says why a message was refused.
   AddResult HandleCamera(const geometry_msgs::PoseWithCovarianceStamped& msg, std::string* why);
-  AddResult HandleImu(const sensor_msgs::Imu& msg, const Eigen::Quaterniond& q_camera_imu, std::string* why);
+  AddResult HandleImu(const sensor_msgs::Imu& msg, const Eigen::Quaterniond& q_camera_imu, std::string* why,
+                      const Eigen::Vector3d& p_imu_in_camera_m = Eigen::Vector3d::Zero());
   // cone_tracker/observations: ConeFrameFromMsg, then MeasurementBuffer::AddCones. A message whose
   // every cone was refused returns the refusal; a stamp older than the buffer is kDroppedLate.
   AddResult HandleObservations(const cone_tracker::ConeObservations& msg, std::string* why);
