@@ -1,12 +1,17 @@
 // detect_cones --config FILE|photos --output out.jsonl IMAGE...
 // Runs the segmentation on image files and writes one JSON line per image:
 // {"image":path, "cones":[{"bbox":[x,y,w,h], "peak":[u,v], "mid":[u,v],
-// "base":[u,v], "area":a, "solidity":s}, ...], "rejected":[{"bbox":[x,y,w,h],
-// "area":a, "gates":["outline", ...]}, ...]} (or "error"). For tuning the
-// thresholds on one's own photos; no camera calibration (no undistortion).
+// "base":[u,v], "area":a, "solidity":s, "score":p, "points":"colour"|"box"}, ...],
+// "rejected":[{"bbox":[x,y,w,h], "area":a, "gates":["outline", ...]}, ...], "ms":t}
+// (or "error"). score: the learned detector's (detector: dnn), 1 for colour
+// detections; points: where peak/mid/base came from (vision/cone_detector.h);
+// ms: the detection's wall time. For tuning the thresholds on one's own photos;
+// no camera calibration (no undistortion). Prints the median and mean time at the end.
 // Exit status 1 when any image could not be read or segmented (one stderr line
 // each, naming the file), 2 for bad arguments or config.
+#include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -22,19 +27,19 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "cone_tracker/node/params.h"
-#include "cone_tracker/vision/segmenter.h"
+#include "cone_tracker/vision/cone_detector.h"
 #include "rig_model/strict_yaml.h"
 
 namespace {
 
 // Reads a YAML mapping of the nodelet's parameters (same names, same units, the same table) and
-// keeps the segmentation's; the others (frames, pose gates) are accepted, so that one tracker config
+// keeps the segmentation's and the detector's; the others (frames, pose gates) are accepted, so that one tracker config
 // serves both. Unknown or misspelt keys and wrong types are refused with the file, line and key.
-cone_tracker::SegmenterConfig LoadConfig(const std::string& path) {
+cone_tracker::NodeConfig LoadConfig(const std::string& path) {
   const rig_model::StrictReader reader(path);
   const YAML::Node root = rig_model::LoadYamlFile(path);
   cone_tracker::NodeConfig c;
-  if (root.IsNull()) return c.segmenter;  // comments only: the defaults
+  if (root.IsNull()) return c;  // comments only: the defaults
   const auto& table = cone_tracker::NodeParams();
   table.FromYaml(root, reader, "", &c);
   for (const auto& kv : root) {
@@ -48,7 +53,7 @@ cone_tracker::SegmenterConfig LoadConfig(const std::string& path) {
   std::string& model = c.segmenter.colour_model;
   const size_t slash = path.find_last_of('/');
   if (!model.empty() && model[0] != '/' && slash != std::string::npos) model = path.substr(0, slash + 1) + model;
-  return c.segmenter;
+  return c;
 }
 
 nlohmann::json Uv(const Eigen::Vector2d& p) { return {p.x(), p.y()}; }
@@ -74,10 +79,10 @@ int main(int argc, char** argv) {
   if (config_path == "photos") config_path = std::string(CONE_TRACKER_CONFIG_DIR) + "/photos.yaml";
   // Our own line per unreadable image names it and says why; OpenCV's warning would be a second one.
   cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
-  std::unique_ptr<cone_tracker::Segmenter> seg;  // built once: the colour table takes ~0.1 s
+  std::unique_ptr<cone_tracker::ConeDetector> seg;  // built once: the colour table takes ~0.1 s
   try {
-    seg = std::make_unique<cone_tracker::Segmenter>(config_path.empty() ? cone_tracker::SegmenterConfig()
-                                                                        : LoadConfig(config_path));
+    const cone_tracker::NodeConfig c = config_path.empty() ? cone_tracker::NodeConfig() : LoadConfig(config_path);
+    seg = std::make_unique<cone_tracker::ConeDetector>(c.segmenter, c.detector);
   } catch (const rig_model::FileError& e) {  // names the file, line and key
     std::fprintf(stderr, "detect_cones: %s\n", e.what());
     return 2;
@@ -91,6 +96,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   int found = 0, failed = 0;
+  std::vector<double> times_ms;
   for (const std::string& path : images) {
     nlohmann::json line = {{"image", path}};
     const cv::Mat bgr = cv::imread(path, cv::IMREAD_COLOR);
@@ -101,22 +107,28 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "detect_cones: %s: cannot read the image: %s\n", path.c_str(), why.c_str());
       ++failed;
     } else {
-      const cone_tracker::SegmentationResult r =
+      const auto t0 = std::chrono::steady_clock::now();
+      const cone_tracker::ConeDetectorResult dr =
           seg->Process({bgr.data, bgr.cols, bgr.rows, int(bgr.step), "bgr8"}, cone_tracker::CameraModel());
+      times_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      const cone_tracker::SegmentationResult& r = dr.segmentation;
       line["cones"] = nlohmann::json::array();
       if (!r.ok) {
         line["error"] = r.error;
         std::fprintf(stderr, "detect_cones: %s: %s\n", path.c_str(), r.error.c_str());
         ++failed;
       }
-      for (const auto& d : r.cones) {
+      for (size_t i = 0; i < r.cones.size(); ++i) {
+        const auto& d = r.cones[i];
         const auto& b = d.blob;
         line["cones"].push_back({{"bbox", {b.bbox_x, b.bbox_y, b.bbox_w, b.bbox_h}},
                                  {"peak", Uv(d.peak_px)},
                                  {"mid", Uv(d.mid_px)},
                                  {"base", Uv(d.base_px)},
                                  {"area", b.area},
-                                 {"solidity", b.solidity}});
+                                 {"solidity", b.solidity},
+                                 {"score", dr.scores[i]},
+                                 {"points", dr.points_from_colour[i] ? "colour" : "box"}});
       }
       line["rejected"] = nlohmann::json::array();
       for (const auto& d : r.rejected) {
@@ -125,6 +137,7 @@ int main(int argc, char** argv) {
                                     {"area", b.area},
                                     {"gates", cone_tracker::SegmentationGateNames(d.failed_gates)}});
       }
+      line["ms"] = times_ms.back();
       found += int(r.cones.size());
     }
     out << line.dump() << "\n";
@@ -135,5 +148,12 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::printf("detect_cones: %zu images, %d cones, %d failed\n", images.size(), found, failed);
+  if (!times_ms.empty()) {
+    double sum = 0;
+    for (double t : times_ms) sum += t;
+    std::nth_element(times_ms.begin(), times_ms.begin() + times_ms.size() / 2, times_ms.end());
+    std::printf("detect_cones: %.1f ms per image (median), %.1f ms (mean)\n", times_ms[times_ms.size() / 2],
+                sum / times_ms.size());
+  }
   return failed > 0 ? 1 : 0;
 }

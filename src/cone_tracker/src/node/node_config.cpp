@@ -33,6 +33,8 @@ void ValidateConfig(const NodeConfig& c) {
   Check(c.rate_tolerance >= 0.0 && c.rate_tolerance < 1.0, "rate_tolerance must be in [0, 1)");
   const std::string seg = c.segmenter.Validate();
   Check(seg.empty(), seg);
+  const std::string detector = c.detector.Validate();
+  Check(detector.empty(), detector);
   const std::string pose = c.pose.Validate();
   Check(pose.empty(), pose);
 }

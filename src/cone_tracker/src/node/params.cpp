@@ -14,6 +14,12 @@ std::vector<std::string> PeakRefinementNames() {
   return names;
 }
 
+std::vector<std::string> DetectorKindNames() {
+  std::vector<std::string> names;
+  for (int i = 0; i < kDetectorKinds; ++i) names.push_back(DetectorKindName(static_cast<DetectorKind>(i)));
+  return names;
+}
+
 Table MakeTable() {
   return Table()
       .Add("layout_file", [](NodeConfig& c) -> std::string& { return c.layout_file; })
@@ -61,6 +67,11 @@ Table MakeTable() {
       .Add("colour_model", [](NodeConfig& c) -> std::string& { return c.segmenter.colour_model; })
       .Add("merge_band_gap_frac", [](NodeConfig& c) -> double& { return c.segmenter.merge_band_gap_frac; })
       .Add("verify_cone_shape", [](NodeConfig& c) -> bool& { return c.segmenter.shape.enabled; })
+      // The detector: colour segmentation, or the learned detector for photos (vision/cone_detector.h).
+      .AddEnum(
+          "detector", [](NodeConfig& c) -> int& { return c.detector.detector; }, DetectorKindNames())
+      .Add("dnn_model", [](NodeConfig& c) -> std::string& { return c.detector.dnn_model; })
+      .Add("dnn_score_min", [](NodeConfig& c) -> double& { return c.detector.dnn_score_min; })
       // Correspondence and the gates (3.1.6, 6.4).
       .Add("sigma_px", [](NodeConfig& c) -> double& { return c.pose.sigma_px; })
       .Add("max_assignment_px", [](NodeConfig& c) -> double& { return c.pose.max_assignment_px; })

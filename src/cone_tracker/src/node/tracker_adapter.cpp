@@ -81,7 +81,7 @@ std::vector<std::string> PoseGateNames(uint32_t bits) {
 }
 
 TrackerAdapter::TrackerAdapter(const NodeConfig& config, const std::vector<ConeModel>& layout)
-    : config_(config), layout_(layout), segmenter_(config.segmenter) {
+    : config_(config), layout_(layout), detector_(config.segmenter, config.detector) {
   ValidateConfig(config_);
   if (layout_.size() < 3 || int(layout_.size()) > kMaxTrackedCones)
     throw std::invalid_argument("the layout needs 3 to " + std::to_string(kMaxTrackedCones) + " cones");
@@ -107,7 +107,7 @@ void TrackerAdapter::Reconfigure(const SegmenterConfig& segmenter, const ConePos
   NodeConfig next = config_;
   next.segmenter = segmenter, next.pose = pose, next.debug = debug;
   ValidateConfig(next);
-  segmenter_.SetConfig(segmenter);  // rebuilds the colour table only if the HSI bounds changed
+  detector_.SetConfig(segmenter, next.detector.dnn_score_min);  // the colour table: only if the HSI bounds changed
   config_ = next;
 }
 
@@ -194,7 +194,7 @@ FrameResult TrackerAdapter::Process(const sensor_msgs::ImageConstPtr& msg,
     return Fail(FrameStatus::kBadImage, std::string("cv_bridge cannot read the image: ") + e.what());
   }
   const ImageView view{cv->image.data, cv->image.cols, cv->image.rows, int(cv->image.step[0]), im.encoding};
-  r.segmentation = segmenter_.Process(view, camera_);
+  r.segmentation = detector_.Process(view, camera_).segmentation;  // colour, or the DNN's boxes (detector)
   if (!r.segmentation.ok) {
     ++counters_.bad_image;
     r.status = FrameStatus::kBadImage;

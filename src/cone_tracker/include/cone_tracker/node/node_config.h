@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "cone_tracker/vision/cone_detector.h"
 #include "cone_tracker/vision/cone_pose.h"
 #include "cone_tracker/vision/segmenter.h"
 
@@ -53,6 +54,7 @@ struct NodeConfig {
   double expected_rate_hz = 30.0;  // diagnostics' frequency check on published poses
   double rate_tolerance = 0.5;     // +-50 % of expected_rate_hz
   SegmenterConfig segmenter;
+  ConeDetectorConfig detector;  // colour segmentation (default) or the learned detector for photos
   ConePoseConfig pose;
   DebugImageConfig debug;
 };

@@ -93,7 +93,7 @@ class TrackerAdapter {
   const NodeConfig& config() const { return config_; }
   const std::vector<ConeModel>& layout() const { return layout_; }
   const TrackerCounters& counters() const { return counters_; }
-  const Segmenter& segmenter() const { return segmenter_; }
+  const Segmenter& segmenter() const { return detector_.segmenter(); }
   bool has_camera_info() const { return has_camera_info_; }
   bool camera_info_valid() const { return camera_valid_; }
   const std::string& camera_info_error() const { return camera_error_; }
@@ -113,7 +113,7 @@ class TrackerAdapter {
 
   NodeConfig config_;
   std::vector<ConeModel> layout_;
-  Segmenter segmenter_;
+  ConeDetector detector_;  // the segmentation, or the learned detector (~detector)
   CameraModel camera_;
   int camera_width_ = 0, camera_height_ = 0;
   bool has_camera_info_ = false, camera_valid_ = false;
