@@ -48,6 +48,8 @@ cone_tracker::ConeObservations ObservationsMsg(const pose_ekf::ConeFrame& f) {
 
 pose_ekf::NodeConfig WithLayout() {
   pose_ekf::NodeConfig c;
+  c.camera_update = static_cast<int>(pose_ekf::CameraUpdate::kCones);  // opt-in (the default is pose)
+  c.ekf.camera_update = pose_ekf::CameraUpdate::kCones;
   c.layout_file = kDefaultLayout;
   pose_ekf::LoadLayout(&c);
   return c;
@@ -69,7 +71,7 @@ TEST(AdapterCones, NewParametersAndTheLayoutFileLoad) {
     EXPECT_LT((c.layout_cones[i].base_m - expected[i].base_m).norm(), 1e-12);
     EXPECT_EQ(c.layout_cones[i].height_m, expected[i].height_m);
   }
-  EXPECT_EQ(pose_ekf::NodeConfig{}.ekf.camera_update, pose_ekf::CameraUpdate::kCones);  // the default
+  EXPECT_EQ(pose_ekf::NodeConfig{}.ekf.camera_update, pose_ekf::CameraUpdate::kPose);  // the default (opt-in cones)
   EXPECT_TRUE(pose_ekf::NodeConfig{}.layout_file.empty());
 }
 

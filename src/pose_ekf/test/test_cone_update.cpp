@@ -32,6 +32,7 @@ using pose_ekf::UpdateResult;
 
 EkfConfig SimConfig() {
   EkfConfig c;
+  c.camera_update = pose_ekf::CameraUpdate::kCones;  // opt-in (the default is kPose)
   c.sigma_gyro_rad_s = 0.01;
   c.sigma_accel_m_s2 = 0.1;
   return c;

@@ -210,7 +210,7 @@ TEST(NodeConfig, ReconfigureRoundTripIsTheIdentity) {
   c.ekf.use_gyro = false;
   c.use_accel = false;
   c.ekf.joseph_update = true;
-  c.camera_update = static_cast<int>(pose_ekf::CameraUpdate::kPose);
+  c.camera_update = static_cast<int>(pose_ekf::CameraUpdate::kCones);
   const pose_ekf::PoseEkfConfig cfg =
       rig_model::ToReconfigure<NodeConfig, pose_ekf::PoseEkfConfig>(pose_ekf::Params(), c);
   EXPECT_EQ(cfg.sigma_gyro_rad_s, 0.02);
@@ -232,7 +232,7 @@ TEST(NodeConfig, ReconfigureRoundTripIsTheIdentity) {
   EXPECT_EQ(names.size(), 18u);  // PoseEkf.cfg's parameters
   pose_ekf::ApplyModes(&back);
   EXPECT_EQ(back.ekf.accel_mode, AccelMode::kOff);
-  EXPECT_EQ(back.ekf.camera_update, pose_ekf::CameraUpdate::kPose);
+  EXPECT_EQ(back.ekf.camera_update, pose_ekf::CameraUpdate::kCones);
 
   NodeConfig same = c;  // onto the config it came from: nothing changes
   rig_model::FromReconfigure(pose_ekf::Params(), cfg, &same);

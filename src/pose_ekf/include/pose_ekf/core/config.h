@@ -69,7 +69,9 @@ struct EkfConfig {
   // observations is fused as with kPose; poses still initialise the filter, and re-initialise it
   // (MeasurementBuffer) after reinit_after_rejections rejected cone frames in a row or when the
   // position sigma exceeds reacquire_sigma_p_m. kPose: observations are ignored.
-  CameraUpdate camera_update = CameraUpdate::kCones;
+  // The default is kPose: on rig_sim replays with the real tracker the per-cone path still diverges
+  // during long one- and two-cone stretches (README, "Per-cone camera updates"), so it is opt-in.
+  CameraUpdate camera_update = CameraUpdate::kPose;
   double cone_gate_probability = 0.9999;   // per cone: yᵀ S⁻¹ y against chi2(6) at this probability; 1 = off
   double cone_joint_probability = 0.9999;  // per frame: the fused cones' NIS sum against chi2(6 k); 1 = off
   double reacquire_sigma_p_m = 0.5;        // largest position sigma before a pose re-initialises; 0 = never

@@ -28,7 +28,7 @@ struct NodeConfig {
   bool use_accel = true;
   int accel_mode = static_cast<int>(AccelMode::kPositionAndOrientation);
   int quat_integration = static_cast<int>(QuatIntegration::kFirstOrder);
-  int camera_update = static_cast<int>(CameraUpdate::kCones);  // ApplyModes sets ekf.camera_update
+  int camera_update = static_cast<int>(CameraUpdate::kPose);  // ApplyModes sets ekf.camera_update
   // The cone layout, the file cone_tracker loads (its ~layout_file): rig_model's schema and parser.
   // Needed for cone_tracker/observations; without it only camera poses are used.
   std::string layout_file;
