@@ -1,0 +1,53 @@
+#!/usr/bin/python3
+"""rostest (test/rig_check_sim.test): `rosrun ar_bringup rig_check` against launch/sim.launch.
+
+~missing "": the whole simulated rig; rig_check must exit 0 with every check PASS or WARN.
+~missing "camera" / "imu": the test launch moved that sensor's topic aside; rig_check must exit 1 and
+FAIL the checks that name it. Waits for the pipeline's first poses (a condition), then runs rig_check
+(its own listening window); rostest's time-limit bounds the whole.
+"""
+import subprocess
+import threading
+import unittest
+
+import rospy
+import rostest
+from geometry_msgs.msg import PoseWithCovarianceStamped
+
+EXPECT_FAIL = {"camera": ["camera found", "camera rate"], "imu": ["IMU rate", "IMU clock"]}
+
+
+class RigCheckSim(unittest.TestCase):
+    def test_rig_check(self):
+        missing = rospy.get_param("~missing", "")
+        cond = threading.Condition()
+        count = [0]
+
+        def on_pose(_):
+            with cond:
+                count[0] += 1
+                cond.notify_all()
+        rospy.Subscriber("pose_ekf/pose", PoseWithCovarianceStamped, on_pose)
+        with cond:
+            while not rospy.is_shutdown() and count[0] < 30:
+                cond.wait(1.0)
+        p = subprocess.run(["rosrun", "ar_bringup", "rig_check", "--window", "10"], capture_output=True, text=True)
+        print(p.stdout, p.stderr)
+        lines = {line[5:27].strip(): line[:4] for line in p.stdout.splitlines() if line[:4] in ("PASS", "WARN", "FAIL")}
+        self.assertEqual(len(lines), 14, p.stdout)
+        if not missing:
+            self.assertEqual(p.returncode, 0, p.stdout)
+            for name in ["camera found", "camera rate", "camera calibrated", "IMU rate", "gyro calibrated",
+                         "camera-IMU tf", "layout loaded", "cones detected", "EKF"]:
+                self.assertEqual(lines.get(name), "PASS", "%s: %s" % (name, p.stdout))
+        else:
+            self.assertEqual(p.returncode, 1, p.stdout)
+            for name in EXPECT_FAIL[missing]:
+                self.assertEqual(lines.get(name), "FAIL", "%s: %s" % (name, p.stdout))
+            other = "imu" if missing == "camera" else "camera"
+            self.assertEqual(lines.get(EXPECT_FAIL[other][0]), "PASS", p.stdout)
+
+
+if __name__ == "__main__":
+    rospy.init_node("rig_check_sim_test")
+    rostest.rosrun("ar_bringup", "rig_check_sim", RigCheckSim)
