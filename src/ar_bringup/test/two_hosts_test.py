@@ -21,7 +21,7 @@ import tf2_ros
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from sensor_msgs.msg import CompressedImage, Image
 
-NEEDED = 5  # messages of each kind
+NEEDED = 3  # messages of each kind (the bag plays once; a loaded machine drops frames)
 
 
 class TwoHosts(unittest.TestCase):
