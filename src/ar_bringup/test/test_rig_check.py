@@ -94,15 +94,20 @@ class SceneTest(unittest.TestCase):
         self.assertEqual(rc.check_layout(4).level, rc.PASS)
         self.assertEqual(rc.check_cones_detected([]).level, rc.FAIL)
         self.assertEqual(rc.check_cones_detected([4, 3]).level, rc.PASS)
-        r = rc.check_cones_detected([4, 4, 2])  # "now": the last frame counts
+        self.assertEqual(rc.check_cones_detected([2] * 20 + [4, 3, 4, 4, 1, 4, 4, 3, 4, 4]).level, rc.PASS)  # one miss
+        r = rc.check_cones_detected([4] * 30 + [2] * 10)  # "now": the last 10 frames count, not the window
         self.assertEqual(r.level, rc.FAIL)
-        self.assertIn("2 cone(s)", r.detail)
+        self.assertIn("2 cones", r.detail)
 
     def test_ekf(self):
-        base = {"message": "tracking", "camera updates": "120", "camera chi2 gate threshold (6 dof)": "22.46"}
+        base = {"message": "tracking", "camera updates": "120"}
         self.assertEqual(rc.check_ekf(dict(base, **{"camera NIS mean": "5.8"})).level, rc.PASS)
+        self.assertEqual(rc.check_ekf(dict(base, **{"camera NIS mean": "2.3"})).level, rc.PASS)
         self.assertEqual(rc.check_ekf(dict(base, **{"camera NIS mean": "40"})).level, rc.FAIL)
+        self.assertEqual(rc.check_ekf(dict(base, **{"camera NIS mean": "nan"})).level, rc.FAIL)
         self.assertEqual(rc.check_ekf(dict(base, **{"camera NIS mean": "0.2"})).level, rc.WARN)
+        self.assertEqual(rc.check_ekf(dict(base, **{"camera NIS mean": "15"})).level, rc.WARN)
+        self.assertEqual(rc.check_ekf(base).level, rc.WARN)  # no NIS published
         waiting = {"message": "waiting for the first camera pose", "camera updates": "0", "camera NIS mean": "0"}
         self.assertEqual(rc.check_ekf(waiting).level, rc.FAIL)
         self.assertEqual(rc.check_ekf(None).level, rc.FAIL)
