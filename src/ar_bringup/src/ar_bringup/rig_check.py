@@ -59,7 +59,8 @@ def check_camera_info(info):
     fix = ("calibrate the camera (rosrun camera_calibration cameracalibrator.py) and pass its YAML: "
            "roslaunch launch/rig.launch camera_info_url:=file:///path/camera.yaml")
     if info is None:
-        return Result(FAIL, name, "no camera_info received", fix)
+        return Result(FAIL, name, "no camera_info received",
+                      "start the camera driver (see camera found); it publishes camera/camera_info with the images")
     K = list(info["K"])
     if len(K) != 9 or K[0] <= 0 or K[4] <= 0 or not all(math.isfinite(k) for k in K):
         return Result(FAIL, name, "camera_info has the default (uncalibrated) intrinsics K = %s" % K, fix)
@@ -170,7 +171,7 @@ def check_clock(name, offsets_s):
     fix = ("the stamps do not follow this host's clock: sync the clocks (chronyc tracking), and check the "
            "driver's time stamping")
     if not offsets_s:
-        return Result(FAIL, name, "no stamps received", fix)
+        return Result(FAIL, name, "no stamps received", "nothing to compare: see the rate check above")
     best = min(offsets_s, key=abs)
     detail = "stamp %+.1f ms from the host clock (closest of %d)" % (-best * 1e3, len(offsets_s))
     if abs(best) > MAX_CLOCK_OFFSET_S:
