@@ -175,6 +175,13 @@ class NoMasterTest(unittest.TestCase):
         self.assertEqual(len(p.stdout.strip().splitlines()), 1, p.stdout)
         self.assertIn("no ROS master at http://127.0.0.1:11399", p.stdout)
 
+    def test_no_pipeline_exit_2(self):
+        # rostest's own master runs no pipeline: one line, exit code 2.
+        p = subprocess.run(["rosrun", "ar_bringup", "rig_check", "--window", "0"], capture_output=True, text=True)
+        self.assertEqual(p.returncode, 2, p.stdout + p.stderr)
+        self.assertEqual(len(p.stdout.strip().splitlines()), 1, p.stdout)
+        self.assertIn("runs no pipeline", p.stdout)
+
     def test_check_master_uri_script(self):
         env = dict(os.environ, ROS_MASTER_URI="http://8.8.4.4:11311")
         p = subprocess.run(["rosrun", "ar_bringup", "check_master_uri"], env=env, capture_output=True, text=True)
