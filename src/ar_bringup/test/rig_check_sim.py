@@ -8,6 +8,7 @@ FAIL the checks that name it. Waits for the pipeline's first poses (a condition)
 """
 import subprocess
 import threading
+import time
 import unittest
 
 import rospy
@@ -44,18 +45,22 @@ class RigCheckSim(unittest.TestCase):
                 cond.notify_all()
         rospy.Subscriber("imu/is_calibrated", Bool, on_calibrated)
         calibrate = rospy.ServiceProxy("imu/calibrate", Trigger)
-        started = False
+        # Calls return at once: "collecting", "already running", or a refusal. A calibration that fails
+        # (too few still samples on a loaded machine) leaves is_calibrated false: the next call retries.
+        last_reply = None
         with cond:
             while not rospy.is_shutdown() and not calibrated[0]:
-                if not started:  # once: it collects its samples, then imu/is_calibrated turns true
-                    cond.release()
-                    try:
-                        reply = calibrate()
-                        print("imu/calibrate: %s %s" % (reply.success, reply.message))
-                        started = reply.success or "already" in reply.message
-                    finally:
-                        cond.acquire()
-                cond.wait(1.0)
+                cond.release()
+                try:
+                    reply = calibrate()
+                finally:
+                    cond.acquire()
+                if (reply.success, reply.message) != last_reply:
+                    print("imu/calibrate: %s %s" % (reply.success, reply.message))
+                    last_reply = (reply.success, reply.message)
+                end = time.monotonic() + 1.0  # poll the service about once a second (poses wake us more often)
+                while not calibrated[0] and time.monotonic() < end:
+                    cond.wait(end - time.monotonic())
         p = subprocess.run(["rosrun", "ar_bringup", "rig_check", "--window", "10"], capture_output=True, text=True)
         print(p.stdout, p.stderr)
         lines = {line[5:27].strip(): line[:4] for line in p.stdout.splitlines() if line[:4] in ("PASS", "WARN", "FAIL")}
