@@ -122,6 +122,8 @@ class ClockTest(unittest.TestCase):
         self.assertIn("-310.0 ms", r.detail)
         self.assertEqual(rc.check_clock("camera clock", [-0.5, -0.45]).level, rc.FAIL)  # stamps in the future
         self.assertEqual(rc.check_clock("camera clock", []).level, rc.FAIL)
+        self.assertEqual(rc.check_clock("IMU clock", [0.0257], limit_s=0.25).level, rc.PASS)
+        self.assertEqual(rc.check_clock("IMU clock", [0.0257]).level, rc.FAIL)
 
 
 class MasterTest(unittest.TestCase):
