@@ -33,6 +33,9 @@ PACKAGES=(
   libyaml-cpp-dev python3-scipy libmatio-dev
   # make demo's overlay video (OpenCV's VideoWriter, H.264); ROS's camera intrinsics calibration GUI
   python3-opencv ros-camera-calibration python3-cv-bridge python3-image-geometry
+  # the base station's image viewer (ros-image-view: the node; libimage-view-dev: its package.xml, so
+  # rosrun and roslaunch find it); image_transport's list_transports and republish
+  ros-image-view libimage-view-dev image-transport-tools
 )
 
 if [[ "${1:-}" == "--print" ]]; then
