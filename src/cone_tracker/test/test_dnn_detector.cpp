@@ -149,8 +149,7 @@ TEST(DnnDetector, FindsTheConesOfTheDevelopmentPhotos) {
   const std::string dir = TraconDir();
   if (dir.empty()) GTEST_SKIP() << "../shared/data/images/tracon_train not found: real-photo test skipped";
   const std::string yaml = std::string(CONE_TRACKER_SOURCE_DIR) + "/config/photos.yaml";
-  NodeConfig config;
-  NodeParams().FromYaml(rig_model::LoadYamlFile(yaml), rig_model::StrictReader(yaml), "", &config);
+  const NodeConfig config = LoadConfigFile(yaml);  // as detect_cones reads it
   ASSERT_EQ(config.detector.kind(), DetectorKind::kDnn) << yaml;
   ConeDetector detector(config.segmenter, config.detector);
 

@@ -19,7 +19,6 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
-#include <variant>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -31,30 +30,6 @@
 #include "rig_model/strict_yaml.h"
 
 namespace {
-
-// Reads a YAML mapping of the nodelet's parameters (same names, same units, the same table) and
-// keeps the segmentation's and the detector's; the others (frames, pose gates) are accepted, so that one tracker config
-// serves both. Unknown or misspelt keys and wrong types are refused with the file, line and key.
-cone_tracker::NodeConfig LoadConfig(const std::string& path) {
-  const rig_model::StrictReader reader(path);
-  const YAML::Node root = rig_model::LoadYamlFile(path);
-  cone_tracker::NodeConfig c;
-  if (root.IsNull()) return c;  // comments only: the defaults
-  const auto& table = cone_tracker::NodeParams();
-  table.FromYaml(root, reader, "", &c);
-  for (const auto& kv : root) {
-    const rig_model::ParamValue v = table.Get(c, kv.first.Scalar());
-    const double* d = std::get_if<double>(&v);
-    if (d && !std::isfinite(*d) && kv.first.Scalar() != "heading_prior_deg") {
-      reader.Fail(kv.second, kv.first.Scalar(), "must be finite");
-    }
-  }
-  // A relative colour model is the config file's neighbour.
-  std::string& model = c.segmenter.colour_model;
-  const size_t slash = path.find_last_of('/');
-  if (!model.empty() && model[0] != '/' && slash != std::string::npos) model = path.substr(0, slash + 1) + model;
-  return c;
-}
 
 nlohmann::json Uv(const Eigen::Vector2d& p) { return {p.x(), p.y()}; }
 
@@ -81,7 +56,8 @@ int main(int argc, char** argv) {
   cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
   std::unique_ptr<cone_tracker::ConeDetector> seg;  // built once: the colour table takes ~0.1 s
   try {
-    const cone_tracker::NodeConfig c = config_path.empty() ? cone_tracker::NodeConfig() : LoadConfig(config_path);
+    const cone_tracker::NodeConfig c =
+        config_path.empty() ? cone_tracker::NodeConfig() : cone_tracker::LoadConfigFile(config_path);
     seg = std::make_unique<cone_tracker::ConeDetector>(c.segmenter, c.detector);
   } catch (const rig_model::FileError& e) {  // names the file, line and key
     std::fprintf(stderr, "detect_cones: %s\n", e.what());

@@ -1,7 +1,11 @@
 #include "cone_tracker/node/params.h"
 
+#include <cmath>
 #include <string>
+#include <variant>
 #include <vector>
+
+#include "rig_model/strict_yaml.h"
 
 namespace cone_tracker {
 namespace {
@@ -89,6 +93,26 @@ Table MakeTable() {
 const rig_model::ParamTable<NodeConfig>& NodeParams() {
   static const Table table = MakeTable();
   return table;
+}
+
+NodeConfig LoadConfigFile(const std::string& path) {
+  const rig_model::StrictReader reader(path);
+  const YAML::Node root = rig_model::LoadYamlFile(path);
+  NodeConfig c;
+  if (root.IsNull()) return c;  // comments only: the defaults
+  const auto& table = NodeParams();
+  table.FromYaml(root, reader, "", &c);
+  for (const auto& kv : root) {
+    const rig_model::ParamValue v = table.Get(c, kv.first.Scalar());
+    const double* d = std::get_if<double>(&v);
+    if (d && !std::isfinite(*d) && kv.first.Scalar() != "heading_prior_deg") {
+      reader.Fail(kv.second, kv.first.Scalar(), "must be finite");
+    }
+  }
+  std::string& model = c.segmenter.colour_model;
+  const size_t slash = path.find_last_of('/');
+  if (!model.empty() && model[0] != '/' && slash != std::string::npos) model = path.substr(0, slash + 1) + model;
+  return c;
 }
 
 }  // namespace cone_tracker
