@@ -9,27 +9,17 @@
 #include <string>
 #include <vector>
 
+#include "bench_util.h"
 #include "pose_ekf/core/measurement_buffer.h"
 #include "pose_ekf/testing/synthetic_rig.h"
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using pose_ekf::AccelMode;
+using pose_ekf_bench::Median;
+using pose_ekf_bench::Print;
+using pose_ekf_bench::TimeUs;
 using pose_ekf_test::Event;
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
-
-template <typename Fn>
-double TimeUs(const Fn& fn) {
-  const auto t0 = Clock::now();
-  fn();
-  return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
-}
 
 // The same model as EkfCore with heap-allocated dense matrices throughout.
 class DenseReferenceEkf {
@@ -90,10 +80,6 @@ class DenseReferenceEkf {
 struct Figures {
   std::vector<double> imu_us, camera_us;
 };
-
-void Print(const char* name, double value, const char* unit) {
-  std::printf("BENCH pose_ekf.%s %.3f %s\n", name, value, unit);
-}
 
 }  // namespace
 

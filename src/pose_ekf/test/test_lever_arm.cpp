@@ -10,30 +10,10 @@
 #include "pose_ekf/core/ekf_core.h"
 #include "pose_ekf/core/process_model.h"
 #include "pose_ekf/testing/synthetic_rig.h"
+#include "state_jacobian.h"
 
 namespace pose_ekf {
 namespace {
-
-StateVector RandomState(int n, unsigned seed) {
-  srand(seed);
-  StateVector x = StateVector::Random(n);
-  x.segment<4>(kQ) = Eigen::Vector4d::Random().normalized();
-  x.segment<3>(kW) *= 4.0;
-  return x;
-}
-
-template <typename Fn>
-Eigen::MatrixXd NumericJacobian(const Fn& f, const StateVector& x, int rows) {
-  Eigen::MatrixXd J(rows, x.size());
-  const double h = 1e-6;
-  for (int i = 0; i < x.size(); ++i) {
-    StateVector xp = x, xm = x;
-    xp[i] += h;
-    xm[i] -= h;
-    J.col(i) = (f(xp) - f(xm)) / (2.0 * h);
-  }
-  return J;
-}
 
 struct Layout {
   bool gyro_bias, accel_bias;
@@ -49,7 +29,7 @@ TEST_P(LeverArmJacobian, AccelModelMatchesNumeric) {
   const Eigen::Vector3d r(0.02, 0.08, -0.06);  // rig_sim's mount
   for (AccelMode mode : {AccelMode::kOrientation, AccelMode::kPositionAndOrientation}) {
     for (unsigned seed = 1; seed <= 5; ++seed) {
-      const StateVector x = RandomState(n, seed);
+      const StateVector x = RandomState(n, seed, 4.0);
       const Eigen::MatrixXd H = AccelJacobian(x, 9.81, mode, r, ba);
       const Eigen::MatrixXd Hn = NumericJacobian(
           [&](const StateVector& s) { return Eigen::VectorXd(AccelModel(s, 9.81, mode, r, ba)); }, x, 3);
@@ -67,7 +47,7 @@ TEST_P(LeverArmJacobian, DampedTransitionMatchesNumeric) {
   c.estimate_accel_bias = GetParam().accel_bias;
   const int n = StateSize(c);
   for (unsigned seed = 1; seed <= 3; ++seed) {
-    const StateVector x = RandomState(n, seed);
+    const StateVector x = RandomState(n, seed, 4.0);
     const Eigen::MatrixXd F = TransitionJacobian(x, 0.02, QuatIntegration::kFirstOrder, 0.5, 0.2);
     const Eigen::MatrixXd Fn = NumericJacobian(
         [&](const StateVector& s) {

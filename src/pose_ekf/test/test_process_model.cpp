@@ -6,30 +6,10 @@
 
 #include "pose_ekf/core/process_model.h"
 #include "pose_math/quaternion.h"
+#include "state_jacobian.h"
 
 namespace pose_ekf {
 namespace {
-
-StateVector RandomState(int n, unsigned seed, double omega_scale) {
-  srand(seed);
-  StateVector x = StateVector::Random(n);
-  x.segment<4>(kQ) = Eigen::Vector4d::Random().normalized();
-  x.segment<3>(kW) *= omega_scale;
-  return x;
-}
-
-template <typename Fn>
-Eigen::MatrixXd NumericJacobian(const Fn& f, const StateVector& x, int rows) {
-  Eigen::MatrixXd J(rows, x.size());
-  const double h = 1e-6;
-  for (int i = 0; i < x.size(); ++i) {
-    StateVector xp = x, xm = x;
-    xp[i] += h;
-    xm[i] -= h;
-    J.col(i) = (f(xp) - f(xm)) / (2.0 * h);
-  }
-  return J;
-}
 
 struct JacobianCase {
   QuatIntegration integration;

@@ -115,6 +115,23 @@ struct Renderer::Impl {
     return lists;
   }
 
+  // The ray o + t d against one solid primitive (decals lie on the ground: none here).
+  static void Intersect(const Prim& p, const Eigen::Vector3d& o, const Eigen::Vector3d& d, Hit* hit) {
+    switch (p.kind) {
+      case PrimKind::kCone:
+        IntersectCone(p, o, d, hit);
+        break;
+      case PrimKind::kBox:
+        IntersectBox(p, o, d, hit);
+        break;
+      case PrimKind::kCylinder:
+        IntersectCylinder(p, o, d, hit);
+        break;
+      case PrimKind::kDecal:
+        break;
+    }
+  }
+
   // Casts one pixel's ray: the single code path behind Render and TracePixel.
   Hit Trace(const TruePose& pose, const Eigen::Vector3d& d, const std::vector<const Prim*>& list,
             const Prim** decal) const {
@@ -122,21 +139,7 @@ struct Renderer::Impl {
     Hit hit;
     if (d.z() < 0.0) hit.t = -o.z() / d.z();  // ground plane z = 0
     *decal = nullptr;
-    for (const Prim* p : list) {
-      switch (p->kind) {
-        case PrimKind::kCone:
-          IntersectCone(*p, o, d, &hit);
-          break;
-        case PrimKind::kBox:
-          IntersectBox(*p, o, d, &hit);
-          break;
-        case PrimKind::kCylinder:
-          IntersectCylinder(*p, o, d, &hit);
-          break;
-        case PrimKind::kDecal:
-          break;
-      }
-    }
+    for (const Prim* p : list) Intersect(*p, o, d, &hit);
     if (hit.prim == nullptr && d.z() < 0.0) {
       const Eigen::Vector3d g = o + hit.t * d;
       for (const Prim* p : list)  // later decals (patches) paint over earlier ones (base plates)
@@ -156,19 +159,7 @@ struct Renderer::Impl {
       const double along = v.dot(l);
       if (along < -p->sphere_radius || v.squaredNorm() - along * along > p->sphere_radius * p->sphere_radius) continue;
       Hit h;
-      switch (p->kind) {
-        case PrimKind::kCone:
-          IntersectCone(*p, q, l, &h);
-          break;
-        case PrimKind::kBox:
-          IntersectBox(*p, q, l, &h);
-          break;
-        case PrimKind::kCylinder:
-          IntersectCylinder(*p, q, l, &h);
-          break;
-        case PrimKind::kDecal:
-          break;
-      }
+      Intersect(*p, q, l, &h);
       if (h.prim) return 0.0f;
     }
     return 1.0f;
