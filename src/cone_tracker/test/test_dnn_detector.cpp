@@ -20,18 +20,10 @@
 #include "cone_tracker/node/params.h"
 #include "cone_tracker/vision/cone_detector.h"
 #include "rig_model/strict_yaml.h"
+#include "test_files.h"
 
 namespace cone_tracker {
 namespace {
-
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
-}
 
 TEST(DnnDetector, MissingModelIsAnErrorNamingTheFile) {
   DnnDetectorConfig c;
@@ -114,14 +106,7 @@ TEST(DnnDetector, OverlapOfBoxes) {
 // ---- the committed model on the development photos, through photos.yaml as detect_cones reads it
 
 std::string TraconDir() {
-  if (const char* env = std::getenv("CONE_TRACKER_TRACON_DIR")) return env;
-  const std::string pkg = CONE_TRACKER_SOURCE_DIR;
-  for (const char* up : {"/../..", "/../../.."})
-    for (const char* shared : {"/../shared", "/../../shared"}) {
-      const std::string dir = pkg + up + shared + "/data/images/tracon_train";
-      if (std::ifstream(dir + "/images/cone (1).jpg")) return dir;
-    }
-  return "";
+  return SharedDataDir("images/tracon_train", "images/cone (1).jpg", "CONE_TRACKER_TRACON_DIR");
 }
 
 struct Box {

@@ -13,6 +13,7 @@
 #include "cone_tracker/node/params.h"
 #include "rig_model/ros/param_table_ros.h"
 #include "rig_model/strict_yaml.h"
+#include "test_files.h"
 
 namespace cone_tracker {
 namespace {
@@ -71,15 +72,6 @@ const std::set<std::string> kLoadConfigNames = {"layout_file",
                                                 "debug_tint_mask",
                                                 "debug_draw_rejected",
                                                 "debug_draw_text"};
-
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
-}
 
 TEST(NodeParams, CoverEveryParameterLoadConfigRead) {
   const std::vector<std::string> names = NodeParams().Names();

@@ -15,17 +15,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "test_files.h"
+
 namespace {
 
 std::string PhotoDir() {
-  if (const char* env = std::getenv("CONE_TRACKER_PHOTO_DIR")) return env;
-  const std::string pkg = CONE_TRACKER_SOURCE_DIR;
-  for (const char* up : {"/../..", "/../../.."})
-    for (const char* shared : {"/../shared", "/../../shared"}) {
-      const std::string dir = pkg + up + shared + "/data/images/fsoco_site";
-      if (std::ifstream(dir + "/fsg__cone.png")) return dir;
-    }
-  return "";
+  return cone_tracker::SharedDataDir("images/fsoco_site", "fsg__cone.png", "CONE_TRACKER_PHOTO_DIR");
 }
 
 struct Expect {
