@@ -76,6 +76,7 @@ Table MakeTable() {
           "detector", [](NodeConfig& c) -> int& { return c.detector.detector; }, DetectorKindNames())
       .Add("dnn_model", [](NodeConfig& c) -> std::string& { return c.detector.dnn_model; })
       .Add("dnn_score_min", [](NodeConfig& c) -> double& { return c.detector.dnn_score_min; })
+      .Add("dnn_min_colour_frac", [](NodeConfig& c) -> double& { return c.detector.dnn_min_colour_frac; })
       // Correspondence and the gates (3.1.6, 6.4).
       .Add("sigma_px", [](NodeConfig& c) -> double& { return c.pose.sigma_px; })
       .Add("max_assignment_px", [](NodeConfig& c) -> double& { return c.pose.max_assignment_px; })

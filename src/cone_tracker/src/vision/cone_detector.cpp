@@ -1,5 +1,6 @@
 #include "cone_tracker/vision/cone_detector.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -28,6 +29,17 @@ cv::Mat ToBgr(const ImageView& im) {
   return bgr;
 }
 
+// The share of the box's pixels that the colour table classified as cone (mask: full-size, row-major).
+double ColourFraction(const std::vector<uint8_t>& mask, int width, int height, const DnnBox& d) {
+  const int x0 = std::max(0, int(d.x)), y0 = std::max(0, int(d.y));
+  const int x1 = std::min(width, int(d.x + d.w)), y1 = std::min(height, int(d.y + d.h));
+  if (x1 <= x0 || y1 <= y0 || mask.size() < size_t(width) * height) return 0.0;
+  size_t on = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) on += mask[size_t(y) * width + x] != 0;
+  return double(on) / (double(x1 - x0) * (y1 - y0));
+}
+
 double BlobIou(const Blob& b, const DnnBox& d) {
   return BoxIou({double(b.bbox_x), double(b.bbox_y), double(b.bbox_w), double(b.bbox_h), 0.0}, d);
 }
@@ -39,6 +51,7 @@ std::string DetectorKindName(DetectorKind kind) { return kind == DetectorKind::k
 std::string ConeDetectorConfig::Validate() const {
   if (detector < 0 || detector >= kDetectorKinds) return "detector must be colour or dnn";
   if (!(dnn_score_min > 0.0 && dnn_score_min < 1.0)) return "dnn_score_min must be in (0, 1)";
+  if (!(dnn_min_colour_frac >= 0.0 && dnn_min_colour_frac <= 1.0)) return "dnn_min_colour_frac must be in [0, 1]";
   return "";
 }
 
@@ -97,6 +110,7 @@ void ConeDetector::AddDnnCones(const ImageView& image, const CameraModel& camera
       used[best] = true;
       det = colour[best];
     } else {  // the box's own points: apex at the top centre, base at the bottom centre
+      if (ColourFraction(segmenter_.mask(), image.width, image.height, box) < config_.dnn_min_colour_frac) continue;
       det.peak_px = {box.x + box.w / 2, box.y};
       det.mid_px = {box.x + box.w / 2, box.y + box.h / 2};
       det.base_px = {box.x + box.w / 2, box.y + box.h};

@@ -24,6 +24,10 @@ struct ConeDetectorConfig {
   int detector = static_cast<int>(DetectorKind::kColour);  // a DetectorKind (an int for the parameter table)
   std::string dnn_model;                                   // ONNX file; empty: DefaultDnnModelFile()
   double dnn_score_min = 0.3;  // see DnnDetectorConfig (chosen on the held-out photos, README)
+  // A DNN box with no colour blob of its own is kept only when at least this share of its pixels is
+  // cone-coloured (the segmenter's colour table): the network finds cones of any colour (yellow and
+  // blue race cones), the fiducials are orange. 0 keeps every box.
+  double dnn_min_colour_frac = 0.05;
   DetectorKind kind() const { return static_cast<DetectorKind>(detector); }
   std::string Validate() const;  // "" or what is wrong, naming the parameter
 };
