@@ -17,8 +17,10 @@ enum class Codec { kJpeg, kPng };
 
 struct EncodeConfig {
   Codec codec = Codec::kJpeg;
-  int jpeg_quality = 80;          // 1..100
-  bool jpeg_optimize = false;     // optimised Huffman tables: a few % smaller, a little slower
+  int jpeg_quality = 80;  // 1..100
+  // Optimised Huffman tables: about 9 % smaller for about 2 ms more per 1024x768 frame. On, unlike
+  // upstream's default, so that the 30 Hz overlay fits 2 MB/s (make bench, README).
+  bool jpeg_optimize = true;
   bool jpeg_progressive = false;  // progressive JPEG
   int jpeg_restart_interval = 0;  // 0..65535, 0: no restart markers
   int png_level = 9;              // 1..9 (zlib)
