@@ -123,6 +123,22 @@ int main() {
   std::printf("BENCH cone_tracker.stage_color_roi_median %.3f ms\n", Median(classify));
   std::printf("BENCH cone_tracker.stage_blobs_median %.3f ms\n", Median(blobs));
   std::printf("BENCH cone_tracker.stage_measure_median %.3f ms\n", Median(measure));
+  // The cost of band merging (on by default): the same frames without it.
+  SegmenterConfig nb;
+  nb.merge_band_gap_frac = 0.0;
+  Segmenter nbseg{nb};
+  std::vector<double> nbtotal, nbcpu;
+  for (int i = 0; i < 400; ++i) {
+    const SimFrame& f = frames[size_t(i) % frames.size()];
+    const double c0 = CpuMs();
+    const auto t0 = Clock::now();
+    nbseg.Process({f.rgb.data(), w, h, w * 3, "rgb8"}, cam);
+    nbtotal.push_back(Ms(t0, Clock::now()));
+    nbcpu.push_back(CpuMs() - c0);
+  }
+  std::printf("without band merging: frame median %.3f ms, CPU %.3f ms\n", Median(nbtotal), Median(nbcpu));
+  std::printf("BENCH cone_tracker.frame_median_no_band_merge %.3f ms\n", Median(nbtotal));
+  std::printf("BENCH cone_tracker.frame_cpu_median_no_band_merge %.3f ms\n", Median(nbcpu));
   // The thesis's template refinement (3.1.5.4) on the same frames, for comparison.
   SegmenterConfig tc;
   tc.peak_refinement = int(PeakRefinement::kTemplates);
