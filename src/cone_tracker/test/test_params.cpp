@@ -61,6 +61,10 @@ const std::set<std::string> kLoadConfigNames = {"layout_file",
                                                 "colour_model",
                                                 "merge_band_gap_frac",
                                                 "verify_cone_shape",
+                                                "shape_min_height_px",
+                                                "shape_max_top_width_frac",
+                                                "shape_max_width_rms_frac",
+                                                "shape_max_hole_frac",
                                                 "detector",
                                                 "dnn_model",
                                                 "dnn_score_min",
@@ -123,6 +127,18 @@ TEST(NodeParams, YamlReadsTheSameNamesStrictly) {
   EXPECT_EQ(c.segmenter.refinement(), PeakRefinement::kNone);
   EXPECT_FALSE(c.segmenter.reject_bad_outline);
   EXPECT_EQ(c.fixed_frame, "site");
+
+  // The silhouette gate's bounds, and a bound out of range refused naming the parameter.
+  NodeParams().FromYaml(YAML::Load("shape_min_height_px: 14\nshape_max_top_width_frac: 0.5\n"
+                                   "shape_max_width_rms_frac: 0.2\nshape_max_hole_frac: 0.3\n"),
+                        reader, "", &c);
+  EXPECT_EQ(c.segmenter.shape.min_height_px, 14.0);
+  EXPECT_EQ(c.segmenter.shape.max_top_width_frac, 0.5);
+  EXPECT_EQ(c.segmenter.shape.max_width_rms_frac, 0.2);
+  EXPECT_EQ(c.segmenter.shape.max_hole_frac, 0.3);
+  EXPECT_EQ(c.segmenter.Validate(), "");
+  c.segmenter.shape.max_hole_frac = 1.5;
+  EXPECT_EQ(c.segmenter.Validate(), "shape_max_hole_frac must be in [0, 1]");
 
   // The old detect_cones names in radians are refused, pointing at the parameter's name.
   EXPECT_EQ(ErrorOf([&] { NodeParams().FromYaml(YAML::Load("hue_min_rad: 5.9\n"), reader, "", &c); }),

@@ -71,6 +71,10 @@ Table MakeTable() {
       .Add("colour_model", [](NodeConfig& c) -> std::string& { return c.segmenter.colour_model; })
       .Add("merge_band_gap_frac", [](NodeConfig& c) -> double& { return c.segmenter.merge_band_gap_frac; })
       .Add("verify_cone_shape", [](NodeConfig& c) -> bool& { return c.segmenter.shape.enabled; })
+      .Add("shape_min_height_px", [](NodeConfig& c) -> double& { return c.segmenter.shape.min_height_px; })
+      .Add("shape_max_top_width_frac", [](NodeConfig& c) -> double& { return c.segmenter.shape.max_top_width_frac; })
+      .Add("shape_max_width_rms_frac", [](NodeConfig& c) -> double& { return c.segmenter.shape.max_width_rms_frac; })
+      .Add("shape_max_hole_frac", [](NodeConfig& c) -> double& { return c.segmenter.shape.max_hole_frac; })
       // The detector: colour segmentation, or the learned detector for photos (vision/cone_detector.h).
       .AddEnum(
           "detector", [](NodeConfig& c) -> int& { return c.detector.detector; }, DetectorKindNames())

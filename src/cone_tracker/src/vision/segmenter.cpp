@@ -102,8 +102,10 @@ std::string SegmenterConfig::Validate() const {
   if (!(outline.outlier_px > 0.0) || !(outline.max_edge_rms_px > 0.0)) return "outline pixel bounds must be > 0";
   if (!(outline.min_inlier_frac >= 0.0 && outline.min_inlier_frac <= 1.0))
     return "outline.min_inlier_frac must be in [0, 1]";
-  if (!(shape.max_top_width_frac > 0.0) || !(shape.max_width_rms_frac > 0.0) || !(shape.max_hole_frac >= 0.0))
-    return "shape bounds must be > 0";
+  if (!(shape.min_height_px >= 0.0)) return "shape_min_height_px must be >= 0";
+  if (!(shape.max_top_width_frac > 0.0)) return "shape_max_top_width_frac must be > 0";
+  if (!(shape.max_width_rms_frac > 0.0)) return "shape_max_width_rms_frac must be > 0";
+  if (!(shape.max_hole_frac >= 0.0 && shape.max_hole_frac <= 1.0)) return "shape_max_hole_frac must be in [0, 1]";
   if (!(template_search_px >= 0.0 && template_search_px <= 32.0)) return "template_search_px must be in [0, 32]";
   return "";
 }
