@@ -127,8 +127,8 @@ bool AdjustSurvey(const SurveyInput& in, const Inventory& inv, const SurveyConfi
             new GyroCost{Eigen::Quaterniond(gyro.Delta(ta, tb, bias0)), in.R_camera_imu, bias0, dt, 1.0 / sigma}),
         nullptr, q[k].data(), q[k + 1].data(), bias.data());
   }
-  problem.AddResidualBlock(new ceres::AutoDiffCostFunction<BiasPrior, 3, 3>(new BiasPrior{bias0, 1.0 / 0.01}),
-                           nullptr, bias.data());
+  problem.AddResidualBlock(new ceres::AutoDiffCostFunction<BiasPrior, 3, 3>(new BiasPrior{bias0, 1.0 / 0.01}), nullptr,
+                           bias.data());
   for (int k = 0; k < K; ++k) problem.SetManifold(q[k].data(), new ceres::EigenQuaternionManifold);
   problem.SetParameterBlockConstant(s->base_m[inv.origin].data());
   problem.SetManifold(s->base_m[inv.x_axis].data(), new ceres::SubsetManifold(3, {1}));

@@ -1,8 +1,6 @@
 #include "imu_track.h"
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <limits>
 
@@ -101,8 +99,7 @@ std::vector<Track> TrackCones(const SurveyInput& in, const GyroIntegrator& gyro,
       const auto [lf, ls] = open[t].sightings.back();
       const ConeSighting& last = in.frames[lf].cones[ls];
       // A point's bearing d in the last frame is R^T d in this one.
-      const Eigen::Matrix3d H =
-          K * gyro.Delta(in.frames[lf].stamp_s, frame.stamp_s, bias_imu).transpose() * K_inv;
+      const Eigen::Matrix3d H = K * gyro.Delta(in.frames[lf].stamp_s, frame.stamp_s, bias_imu).transpose() * K_inv;
       const Eigen::Vector2d peak = carry(H, last.peak_px), base = carry(H, last.base_px);
       const double gate = config.track_gate_frac * cam.width_px + 0.1 * (last.peak_px - last.base_px).norm();
       for (int s = 0; s < static_cast<int>(frame.cones.size()); ++s) {
@@ -118,14 +115,6 @@ std::vector<Track> TrackCones(const SurveyInput& in, const GyroIntegrator& gyro,
       if (track_used[p.track] || sighting_used[p.sighting]) continue;
       track_used[p.track] = sighting_used[p.sighting] = true;
       open[p.track].sightings.emplace_back(f, p.sighting);
-    }
-    if (std::getenv("CONE_SURVEY_DEBUG")) {
-      std::fprintf(stderr, "frame %d t %.2f: %zu sightings, %zu open tracks:", f, frame.stamp_s, frame.cones.size(),
-                   open.size());
-      for (int s = 0; s < static_cast<int>(frame.cones.size()); ++s)
-        std::fprintf(stderr, " (%.0f %.0f|%.0f %.0f)%s", frame.cones[s].peak_px.x(), frame.cones[s].peak_px.y(),
-                     frame.cones[s].base_px.x(), frame.cones[s].base_px.y(), sighting_used[s] ? "" : "*");
-      std::fprintf(stderr, "\n");
     }
     for (int s = 0; s < static_cast<int>(frame.cones.size()); ++s)
       if (!sighting_used[s]) open.push_back(Track{{{f, s}}});

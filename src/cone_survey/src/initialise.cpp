@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <map>
 #include <sstream>
 
@@ -65,9 +63,10 @@ struct Use {  // a track's sightings in the adjusted frames
 // positions (the first at the origin), per track B and h unless fixed_h gives it. False when singular.
 bool SolveTracks(const SurveyInput& in, const std::vector<int>& frames, const std::vector<Eigen::Matrix3d>& R,
                  const std::vector<Use>& uses, const std::vector<int>& unit, const std::vector<double>& fixed_h,
-                 const std::vector<std::vector<double>>& weights, double tau, const std::vector<Eigen::Vector3d>& prev_cameras,
-                 const std::vector<Eigen::Vector3d>& prev_bases, std::vector<Eigen::Vector3d>* cameras,
-                 std::vector<Eigen::Vector3d>* bases, std::vector<double>* heights) {
+                 const std::vector<std::vector<double>>& weights, double tau,
+                 const std::vector<Eigen::Vector3d>& prev_cameras, const std::vector<Eigen::Vector3d>& prev_bases,
+                 std::vector<Eigen::Vector3d>* cameras, std::vector<Eigen::Vector3d>* bases,
+                 std::vector<double>* heights) {
   const int K = static_cast<int>(frames.size()), T = static_cast<int>(uses.size());
   const int U = *std::max_element(unit.begin(), unit.end()) + 1;
   std::vector<int> h_index(T, -1);
@@ -103,8 +102,7 @@ bool SolveTracks(const SurveyInput& in, const std::vector<int>& frames, const st
             trip.emplace_back(row + r, 3 * (K - 1) + 3 * unit[t] + j, S(r, j));
             if (k > 0) trip.emplace_back(row + r, 3 * (k - 1) + j, -S(r, j));
           }
-          if (h_index[t] >= 0)
-            trip.emplace_back(row + r, h_index[t], S_h[r]);
+          if (h_index[t] >= 0) trip.emplace_back(row + r, h_index[t], S_h[r]);
           rhs.push_back(h_index[t] >= 0 ? 0.0 : -S_h[r] * fixed_h[t]);
         }
         row += 3;
@@ -162,8 +160,8 @@ std::vector<std::vector<double>> RobustWeights(const SurveyInput& in, const std:
       double e = 0.0;
       for (int point = 0; point < 2; ++point) {
         const Eigen::Vector2d px = point == 0 ? c.peak_px : c.base_px;
-        const Eigen::Vector3d d =
-            R[k] * Eigen::Vector3d((px.x() - in.camera.cx_px) / in.camera.fx_px, (px.y() - in.camera.cy_px) / in.camera.fy_px, 1.0);
+        const Eigen::Vector3d d = R[k] * Eigen::Vector3d((px.x() - in.camera.cx_px) / in.camera.fx_px,
+                                                         (px.y() - in.camera.cy_px) / in.camera.fy_px, 1.0);
         const Eigen::Vector3d X = bases[t] + (point == 0 ? heights[t] : 0.0) * Eigen::Vector3d::UnitZ() - cameras[k];
         e = std::max(e, d.normalized().cross(X.normalized()).norm());
       }
@@ -179,8 +177,8 @@ std::vector<std::vector<double>> RobustWeights(const SurveyInput& in, const std:
 }
 
 // Tracks of one cone, longest first: a track joins the nearest group whose height is within 30 % of
-// its own and whose base is within 0.6 of the taller height or 0.35 m (a short track is placed less
-// well). Sorts `placed` by sightings, longest first.
+// its own and whose base is within 0.6 of the taller height or 0.5 m (a short track is placed less
+// well; cones stand at least 0.5 m apart). Sorts `placed` by sightings, longest first.
 std::vector<Group> GroupTracks(std::vector<Placed>* placed) {
   std::sort(placed->begin(), placed->end(), [](const Placed& a, const Placed& b) { return a.count > b.count; });
   std::vector<Group> groups;
@@ -191,7 +189,7 @@ std::vector<Group> GroupTracks(std::vector<Placed>* placed) {
     for (int g = 0; g < static_cast<int>(groups.size()); ++g) {
       const double d = (groups[g].base - p.base).head<2>().norm();
       const double ratio = p.height / groups[g].height;
-      if (d < std::max(0.35, 0.6 * std::max(p.height, groups[g].height)) && ratio > 0.7 && ratio < 1.0 / 0.7 &&
+      if (d < std::max(0.5, 0.6 * std::max(p.height, groups[g].height)) && ratio > 0.7 && ratio < 1.0 / 0.7 &&
           d < best_d)
         best = g, best_d = d;
     }
@@ -251,8 +249,8 @@ bool InitialiseSurvey(const SurveyInput& in, const Inventory& inv, const SurveyC
   // Rotations from the gyro, levelled by the accelerometer at the first adjusted frame.
   Eigen::Vector3d up;
   if (!gyro.UpInCamera(in.frames[frames[0]].stamp_s, 0.05, &up)) {
-    *error = "no IMU samples at the first frame with cones (t = " +
-             std::to_string(in.frames[frames[0]].stamp_s - t0) + " s): the IMU must cover the walk";
+    *error = "no IMU samples at the first frame with cones (t = " + std::to_string(in.frames[frames[0]].stamp_s - t0) +
+             " s): the IMU must cover the walk";
     return false;
   }
   std::vector<Eigen::Matrix3d> R(frames.size());
@@ -273,23 +271,6 @@ bool InitialiseSurvey(const SurveyInput& in, const Inventory& inv, const SurveyC
   if (uses.empty()) {
     *error = "no cone was followed over two or more frames: walk slower, or check the camera and the detector";
     return false;
-  }
-  if (const char* dump = std::getenv("CONE_SURVEY_DUMP")) {
-    FILE* f = std::fopen(dump, "w");
-    for (size_t t = 0; t < uses.size(); ++t)
-      for (const auto& [k, s] : uses[t].sightings) {
-        const ConeSighting& c = in.frames[frames[k]].cones[s];
-        std::fprintf(f, "%zu %.6f %.2f %.2f %.2f %.2f\n", t, in.frames[frames[k]].stamp_s, c.peak_px.x(), c.peak_px.y(),
-                     c.base_px.x(), c.base_px.y());
-      }
-    std::fclose(f);
-    f = std::fopen((std::string(dump) + ".rot").c_str(), "w");
-    for (int k = 0; k < static_cast<int>(frames.size()); ++k) {
-      std::fprintf(f, "%.6f", in.frames[frames[k]].stamp_s);
-      for (int i = 0; i < 9; ++i) std::fprintf(f, " %.9f", R[k](i / 3, i % 3));
-      std::fprintf(f, "\n");
-    }
-    std::fclose(f);
   }
   // Place the tracks over a growing window of the walk. In the first window (6 s of motion) the
   // heights are free (the longest track's is the unit) and the scale comes from the inventory's
@@ -315,8 +296,8 @@ bool InitialiseSurvey(const SurveyInput& in, const Inventory& inv, const SurveyC
   const double end_s = in.frames[frames.back()].stamp_s - t0;
   double first_window_s = 6.0;
   for (int k = 0; k < K; ++k)  // six seconds after the first frame that moved
-    if (gyro.Delta(in.frames[frames[0]].stamp_s, in.frames[frames[k]].stamp_s, bias_imu).isApprox(
-            Eigen::Matrix3d::Identity(), 1e-3) == false) {
+    if (gyro.Delta(in.frames[frames[0]].stamp_s, in.frames[frames[k]].stamp_s, bias_imu)
+            .isApprox(Eigen::Matrix3d::Identity(), 1e-3) == false) {
       first_window_s = in.frames[frames[k]].stamp_s - t0 + 6.0;
       break;
     }
@@ -343,9 +324,9 @@ bool InitialiseSurvey(const SurveyInput& in, const Inventory& inv, const SurveyC
     for (int i = 0; i < Tw; ++i) fixed_w[i] = fixed_h[track_of[i]];
     const bool metric = std::any_of(fixed_w.begin(), fixed_w.end(), [](double h) { return !std::isnan(h); });
     if (!metric)  // the longest track's height is the unit
-      fixed_w[std::max_element(uses_w.begin(), uses_w.end(), [](const Use& a, const Use& b) {
-                return a.sightings.size() < b.sightings.size();
-              }) - uses_w.begin()] = 1.0;
+      fixed_w[std::max_element(uses_w.begin(), uses_w.end(),
+                               [](const Use& a, const Use& b) { return a.sightings.size() < b.sightings.size(); }) -
+              uses_w.begin()] = 1.0;
     std::vector<int> unit(Tw);
     for (int i = 0; i < Tw; ++i) unit[i] = i;
     std::vector<std::vector<double>> weights(Tw);
@@ -369,7 +350,8 @@ bool InitialiseSurvey(const SurveyInput& in, const Inventory& inv, const SurveyC
     if (!metric) {
       std::vector<Placed> placed;
       for (int i = 0; i < Tw; ++i)
-        if (heights[i] > 0.0) placed.push_back({i, bases[i], heights[i], static_cast<int>(uses_w[i].sightings.size()), 0, 0});
+        if (heights[i] > 0.0)
+          placed.push_back({i, bases[i], heights[i], static_cast<int>(uses_w[i].sightings.size()), 0, 0});
       const std::vector<Group> g = GroupTracks(&placed);
       scale = ScaleFromHeights(g, inv, tol);
     }
@@ -378,11 +360,6 @@ bool InitialiseSurvey(const SurveyInput& in, const Inventory& inv, const SurveyC
       const int key = nearest_class(scale * heights[i]);
       if (key >= 0) fixed_h[track_of[i]] = key / 1000.0;
     }
-    if (std::getenv("CONE_SURVEY_DEBUG"))
-      for (int i = 0; i < Tw; ++i)
-        std::fprintf(stderr, "window %.0f track %d: %zu sightings, base (%.2f %.2f %.2f) h %.3f -> %.2f\n", window_s,
-                     track_of[i], uses_w[i].sightings.size(), scale * bases[i].x(), scale * bases[i].y(),
-                     scale * bases[i].z(), scale * heights[i], fixed_h[track_of[i]]);
     if (!last) continue;
     // The last window is the whole walk: the tracks as placed, grouped into cones.
     std::vector<Placed> placed;
@@ -394,8 +371,8 @@ bool InitialiseSurvey(const SurveyInput& in, const Inventory& inv, const SurveyC
       if ((c1 - c0).norm() < 0.05 * (bases[i] - c0).norm()) continue;
       const double first = in.frames[frames[uses_w[i].sightings.front().first]].stamp_s - t0;
       const double last_seen = in.frames[frames[uses_w[i].sightings.back().first]].stamp_s - t0;
-      placed.push_back({i, scale * bases[i], scale * heights[i], static_cast<int>(uses_w[i].sightings.size()), first,
-                        last_seen});
+      placed.push_back(
+          {i, scale * bases[i], scale * heights[i], static_cast<int>(uses_w[i].sightings.size()), first, last_seen});
     }
     for (Eigen::Vector3d& c : cameras) c *= scale;
     uses = uses_w;
@@ -418,13 +395,14 @@ bool InitialiseSurvey(const SurveyInput& in, const Inventory& inv, const SurveyC
   auto where = [&](const Group& g) {
     std::ostringstream s;
     s.precision(2);
-    s << std::fixed << "a cone of " << scale * g.height << " m at (" << scale * g.base.x() << ", "
-      << scale * g.base.y() << ") m from the first camera, seen " << g.first_s << "-" << g.last_s << " s";
+    s << std::fixed << "a cone of " << scale * g.height << " m at (" << scale * g.base.x() << ", " << scale * g.base.y()
+      << ") m from the first camera, seen " << g.first_s << "-" << g.last_s << " s";
     return s.str();
   };
   std::ostringstream problems;
   double lo_m = 1e9, hi_m = 0.0;  // heights a cone of the inventory could be mistaken for
-  for (const rig_model::ConeSpec& c : inv.cones) lo_m = std::min(lo_m, 0.6 * c.height_m), hi_m = std::max(hi_m, 1.5 * c.height_m);
+  for (const rig_model::ConeSpec& c : inv.cones)
+    lo_m = std::min(lo_m, 0.6 * c.height_m), hi_m = std::max(hi_m, 1.5 * c.height_m);
   for (int g : unmatched_groups)
     if (groups[g].height > lo_m && groups[g].height < hi_m)
       problems << "\n  found " << where(groups[g]) << ": no inventory cone has that height";
@@ -451,8 +429,8 @@ bool InitialiseSurvey(const SurveyInput& in, const Inventory& inv, const SurveyC
   // The output frame: origin at the origin cone, +x toward the +x cone, z up.
   const Eigen::Vector3d origin = scale * groups[group_of_cone[inv.origin]].base;
   const Eigen::Vector3d toward = scale * groups[group_of_cone[inv.x_axis]].base - origin;
-  const Eigen::Matrix3d R_out_world = Eigen::AngleAxisd(-std::atan2(toward.y(), toward.x()), Eigen::Vector3d::UnitZ())
-                                          .toRotationMatrix();
+  const Eigen::Matrix3d R_out_world =
+      Eigen::AngleAxisd(-std::atan2(toward.y(), toward.x()), Eigen::Vector3d::UnitZ()).toRotationMatrix();
   out->frames = frames;
   out->R_world_camera.resize(K);
   out->p_camera_m.resize(K);

@@ -20,7 +20,7 @@ struct Observation {
 };
 
 struct InitialSurvey {
-  std::vector<int> frames;                   // adjusted frames: indices into SurveyInput::frames
+  std::vector<int> frames;                      // adjusted frames: indices into SurveyInput::frames
   std::vector<Eigen::Matrix3d> R_world_camera;  // per adjusted frame, z up
   std::vector<Eigen::Vector3d> p_camera_m;      // per adjusted frame
   std::vector<Eigen::Vector3d> base_m;          // per inventory cone

@@ -31,7 +31,8 @@ Inventory ParseRoot(const YAML::Node& root, const std::string& source) {
   if (!root || root.IsNull()) r.Fail(root, "cones", "empty inventory: give 'cones:' with {height_m, style} per cone");
   r.CheckKeys(root, kTopKeys, "");
   const YAML::Node list = root["cones"];
-  if (!list || !list.IsSequence()) r.Fail(list ? list : root, "cones", "must be a list like [{height_m: 0.71, style: road}]");
+  if (!list || !list.IsSequence())
+    r.Fail(list ? list : root, "cones", "must be a list like [{height_m: 0.71, style: road}]");
   Inventory inv;
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string where = "cones[" + std::to_string(i) + "]";
@@ -45,8 +46,8 @@ Inventory ParseRoot(const YAML::Node& root, const std::string& source) {
     const double h = r.RequiredNumber(n, where, "height_m");
     if (h < rig_model::LayoutLimits::kMinHeightM || h > rig_model::LayoutLimits::kMaxHeightM) {
       std::ostringstream m;
-      m << h << " is outside [" << rig_model::LayoutLimits::kMinHeightM << ", "
-        << rig_model::LayoutLimits::kMaxHeightM << "] m";
+      m << h << " is outside [" << rig_model::LayoutLimits::kMinHeightM << ", " << rig_model::LayoutLimits::kMaxHeightM
+        << "] m";
       r.Fail(n["height_m"], FieldPath(where, "height_m"), m.str());
     }
     rig_model::ConeSpec c =

@@ -34,13 +34,20 @@ std::string Fixed(double v, int digits) {
 
 std::string SurveyConfig::Validate() const {
   std::ostringstream e;
-  if (!(track_gate_frac > 0.0 && track_gate_frac < 1.0)) e << "track_gate_frac must be in (0, 1)";
-  else if (track_max_gap_frames < 0 || min_track_frames < 2) e << "need track_max_gap_frames >= 0, min_track_frames >= 2";
-  else if (!(adjust_rate_hz > 0.0)) e << "adjust_rate_hz must be > 0";
-  else if (!(sigma_px > 0.0 && robust_px > 0.0)) e << "sigma_px and robust_px must be > 0";
-  else if (!(gyro_noise_rad_s > 0.0 && gravity_sigma_deg > 0.0)) e << "gyro_noise_rad_s, gravity_sigma_deg must be > 0";
-  else if (!(height_tolerance > 0.0 && height_tolerance < 0.5)) e << "height_tolerance must be in (0, 0.5)";
-  else if (min_frames < 2 || !(min_view_spread_deg >= 0.0)) e << "need min_frames >= 2, min_view_spread_deg >= 0";
+  if (!(track_gate_frac > 0.0 && track_gate_frac < 1.0))
+    e << "track_gate_frac must be in (0, 1)";
+  else if (track_max_gap_frames < 0 || min_track_frames < 2)
+    e << "need track_max_gap_frames >= 0, min_track_frames >= 2";
+  else if (!(adjust_rate_hz > 0.0))
+    e << "adjust_rate_hz must be > 0";
+  else if (!(sigma_px > 0.0 && robust_px > 0.0))
+    e << "sigma_px and robust_px must be > 0";
+  else if (!(gyro_noise_rad_s > 0.0 && gravity_sigma_deg > 0.0))
+    e << "gyro_noise_rad_s, gravity_sigma_deg must be > 0";
+  else if (!(height_tolerance > 0.0 && height_tolerance < 0.5))
+    e << "height_tolerance must be in (0, 0.5)";
+  else if (min_frames < 2 || !(min_view_spread_deg >= 0.0))
+    e << "need min_frames >= 2, min_view_spread_deg >= 0";
   else if (!(outlier_px > 0.0 && moved_fraction > 0.0 && moved_fraction <= 1.0))
     e << "need outlier_px > 0 and moved_fraction in (0, 1]";
   return e.str();

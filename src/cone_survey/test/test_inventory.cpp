@@ -20,8 +20,9 @@ std::string ErrorOf(const std::string& text) {
   return "";
 }
 
-const char* kThree = "cones:\n  - {height_m: 0.91, style: road}\n  - {height_m: 0.30, style: plain}\n"
-                     "  - {height_m: 0.71}\n";
+const char* kThree =
+    "cones:\n  - {height_m: 0.91, style: road}\n  - {height_m: 0.30, style: plain}\n"
+    "  - {height_m: 0.71}\n";
 
 TEST(Inventory, ReadsConesAndAnchors) {
   const Inventory inv = ParseInventory(std::string(kThree) + "origin: 2\nx_axis: 0\n", "inv.yaml");

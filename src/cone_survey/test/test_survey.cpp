@@ -4,17 +4,21 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <memory>
+#include <sstream>
 #include <string>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
+#include <Eigen/Geometry>
 
 #include "cone_survey/inventory.h"
 #include "cone_survey/ros/bag_input.h"
@@ -25,6 +29,8 @@
 
 namespace cone_survey {
 namespace {
+
+using rig_model::ConeStyle;
 
 std::string TempPath(const std::string& name) {
   return "/tmp/cone_survey_test_" + std::to_string(getpid()) + "_" + name;
@@ -136,6 +142,143 @@ TEST_P(SurveyAccuracy, PairwiseDistancesWithinTwoCentimetres) {
 
 INSTANTIATE_TEST_SUITE_P(RandomLayouts, SurveyAccuracy,
                          testing::Values(std::make_pair(5, 501), std::make_pair(8, 802), std::make_pair(12, 1203)));
+
+// One walk for the refusals below (written once, removed at exit).
+constexpr double kWalkS = 20.0;
+const rig_sim::Scene& SharedLayout() {
+  static const rig_sim::Scene scene = [] {
+    rig_sim::RandomLayoutConfig lc;
+    lc.cones = 6;
+    lc.seed = 6006;
+    return rig_sim::RandomLayout(lc);
+  }();
+  return scene;
+}
+const std::string& SharedBag() {
+  static const std::string path = [] {
+    const std::string p = TempPath("shared.bag");
+    WriteWalk(SharedLayout(), 6006, kWalkS, p);
+    std::atexit([] { std::remove(TempPath("shared.bag").c_str()); });
+    return p;
+  }();
+  return path;
+}
+const SurveyInput& SharedInput() {
+  static const SurveyInput in = ReadWalk(SharedBag());
+  return in;
+}
+
+// Runs survey_layout as a user does; returns its exit status, stderr in *err.
+int RunTool(const std::string& args, std::string* err) {
+  const std::string err_file = TempPath("stderr.txt");
+  const int status = std::system((std::string(SURVEY_LAYOUT_EXE) + " " + args + " >/dev/null 2>" + err_file).c_str());
+  std::ifstream f(err_file);
+  err->assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+  std::remove(err_file.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(SurveyTool, WritesALayoutThatRigModelReadsBack) {
+  const std::string inv = TempPath("inv.yaml"), out = TempPath("out.yaml");
+  std::ofstream(inv) << InventoryYaml(SharedLayout().cones, 0, 1);
+  std::string err;
+  EXPECT_EQ(RunTool("--bag " + SharedBag() + " --inventory " + inv + " --output " + out, &err), 0) << err;
+  const rig_model::Layout layout = rig_model::LoadLayoutFile(out);
+  const std::vector<Eigen::Vector3d> sigmas = rig_model::LoadConeSigmas(out);
+  std::remove(inv.c_str());
+  std::remove(out.c_str());
+  ASSERT_EQ(layout.cones.size(), SharedLayout().cones.size());
+  EXPECT_EQ(layout.cones[0].base_m.norm(), 0.0);
+  for (size_t i = 0; i < layout.cones.size(); ++i) {
+    EXPECT_EQ(layout.cones[i].height_m, SharedLayout().cones[i].height_m) << i;
+    EXPECT_FALSE(sigmas[i].array().isNaN().any()) << i;
+    EXPECT_LT(sigmas[i].maxCoeff(), 0.02) << i;
+  }
+  EXPECT_GT(sigmas[2].minCoeff(), 0.0);  // neither anchor: every axis uncertain
+}
+
+TEST(SurveyTool, ABagWithoutCameraInfoOrImuIsOneClearLine) {
+  rig_sim::TopicNames no_info, no_imu;
+  no_info.camera_info = "elsewhere/camera_info";
+  no_imu.imu = "elsewhere/imu";
+  const std::string inv = TempPath("inv2.yaml"), bag = TempPath("short.bag");
+  std::ofstream(inv) << InventoryYaml(SharedLayout().cones, 0, 1);
+  for (const auto& [topics, what] : {std::make_pair(no_info, std::string("no camera/camera_info camera_info")),
+                                     std::make_pair(no_imu, std::string("no imu/data_raw IMU"))}) {
+    WriteWalk(SharedLayout(), 1, 1.0, bag, topics);
+    std::string err;
+    EXPECT_EQ(RunTool("--bag " + bag + " --inventory " + inv + " --output " + TempPath("never.yaml"), &err), 1);
+    EXPECT_NE(err.find(bag + ": " + what), std::string::npos) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    std::remove(bag.c_str());
+  }
+  std::string err;
+  EXPECT_EQ(RunTool("--bag /nonexistent.bag --inventory " + inv + " --output x.yaml", &err), 1);
+  EXPECT_NE(err.find("/nonexistent.bag: cannot read the bag"), std::string::npos) << err;
+  std::remove(inv.c_str());
+  EXPECT_EQ(RunTool("--bag " + SharedBag() + " --inventory " + inv + " --output x.yaml", &err), 2);
+  EXPECT_NE(err.find(inv + ": cannot open"), std::string::npos) << err;
+}
+
+TEST(SurveyRefusals, AnInventoryThatDoesNotMatchSaysWhich) {
+  const rig_sim::Scene& truth = SharedLayout();
+  // One more cone than placed, of a height that is there (cone 2's).
+  std::vector<rig_model::ConeSpec> more = truth.cones;
+  more.push_back(truth.cones[2]);
+  const SurveyResult extra = SurveyLayout(SharedInput(), ParseInventory(InventoryYaml(more, 0, 1), "more.yaml"), {});
+  EXPECT_FALSE(extra.ok);
+  EXPECT_NE(extra.error.find("not found:"), std::string::npos) << extra.error;
+  EXPECT_NE(extra.error.find("cones[" + std::to_string(more.size() - 1) + "]"), std::string::npos) << extra.error;
+  // One fewer: the walk shows a cone the inventory lacks.
+  std::vector<rig_model::ConeSpec> fewer(truth.cones.begin(), truth.cones.end() - 1);
+  const SurveyResult missing =
+      SurveyLayout(SharedInput(), ParseInventory(InventoryYaml(fewer, 0, 1), "fewer.yaml"), {});
+  EXPECT_FALSE(missing.ok);
+  EXPECT_NE(missing.error.find("found, the inventory lists"), std::string::npos) << missing.error;
+}
+
+TEST(SurveyRefusals, ConesSeenFromOneSideOnlyAreNamed) {
+  // The first fifth of the walk (two seconds of motion): every cone is seen over a small arc.
+  SurveyInput part = SharedInput();
+  const double t_end = part.frames.front().stamp_s + 0.22 * kWalkS;
+  part.frames.erase(
+      std::remove_if(part.frames.begin(), part.frames.end(), [&](const SurveyFrame& f) { return f.stamp_s > t_end; }),
+      part.frames.end());
+  const SurveyResult r = SurveyLayout(part, InventoryOf(SharedLayout()), SurveyConfig());
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("the walk does not constrain every cone"), std::string::npos) << r.error;
+  EXPECT_NE(r.error.find("deg (need 30 frames over 90 deg): walk around it"), std::string::npos) << r.error;
+  EXPECT_NE(r.error.find("cones["), std::string::npos) << r.error;
+}
+
+TEST(SurveyRefusals, AConeMovedDuringTheWalkIsNamed) {
+  // The same walk twice, cone 2 moved 0.3 m in the second; the frames after mid-walk from the second.
+  const rig_sim::Scene& before = SharedLayout();
+  rig_sim::Scene after = before;
+  after.cones[2].base_m += Eigen::Vector3d(0.3, 0.0, 0.0);
+  const std::string bag_after = TempPath("after.bag"), merged = TempPath("merged.bag");
+  WriteWalk(after, 6006, kWalkS, bag_after);
+  {
+    rosbag::Bag a(SharedBag()), b(bag_after), out(merged, rosbag::bagmode::Write);
+    rosbag::View va(a), vb(b);
+    const ros::Time mid = va.getBeginTime() + ros::Duration(0.5 * kWalkS);
+    for (const rosbag::MessageInstance& m : va)
+      if (m.getTopic() != "camera/image_raw" || m.getTime() < mid) out.write(m.getTopic(), m.getTime(), m);
+    for (const rosbag::MessageInstance& m : vb)
+      if (m.getTopic() == "camera/image_raw" && m.getTime() >= mid) out.write(m.getTopic(), m.getTime(), m);
+  }
+  const SurveyInput in = ReadWalk(merged);
+  std::remove(bag_after.c_str());
+  std::remove(merged.c_str());
+  const SurveyResult r = SurveyLayout(in, InventoryOf(before), SurveyConfig());
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("moved during the walk"), std::string::npos) << r.error;
+  // Cones of one height are interchangeable: the message names one of cone 2's height.
+  std::ostringstream name;
+  name << "(" << before.cones[2].height_m << " m " << (before.cones[2].style == ConeStyle::kRoad ? "road" : "plain")
+       << ")";
+  EXPECT_NE(r.error.find(name.str()), std::string::npos) << r.error;
+}
 
 }  // namespace
 }  // namespace cone_survey

@@ -5,8 +5,8 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "rig_model/surveyed_layout.h"
 #include "rig_model/strict_yaml.h"
+#include "rig_model/surveyed_layout.h"
 
 namespace rig_model {
 namespace {

@@ -11,8 +11,8 @@
 
 #include <gtest/gtest.h>
 
-#include "rig_model/surveyed_layout.h"
 #include "rig_model/strict_yaml.h"
+#include "rig_model/surveyed_layout.h"
 #include "test_util.h"
 
 namespace rig_model {

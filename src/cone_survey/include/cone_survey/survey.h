@@ -43,31 +43,31 @@ struct SurveyInput {
 };
 
 struct SurveyConfig {
-  double track_gate_frac = 0.025;  // frame-to-frame match gate: this x image width (+ 0.1 x the cone's length)
-  int track_max_gap_frames = 3;   // a track missing this many frames ends
-  int min_track_frames = 5;       // shorter tracks are dropped as noise
-  double adjust_rate_hz = 10.0;   // frames the adjustment uses (the tracking uses every frame)
-  double sigma_px = 1.0;          // point noise of the adjustment
-  double robust_px = 2.0;         // Cauchy loss scale
-  double gyro_noise_rad_s = 0.003;   // relative-rotation sigma = this x sqrt(dt) + 0.05 deg
-  double gravity_sigma_deg = 2.0;    // the accelerometer's up direction per frame (walking accelerations)
-  double still_start_s = 1.0;        // the walk's first second, held still, gives the gyro bias
-  double height_tolerance = 0.15;    // a found cone's height within this fraction of an inventory height
-  int min_frames = 20;               // a cone seen in fewer adjusted frames is not constrained
-  double min_view_spread_deg = 30.0; // ... nor one seen over a smaller arc of directions around it
-  double outlier_px = 4.0;           // an observation off by more is an outlier
-  double moved_fraction = 0.2;       // a cone with more outliers than this moved during the walk
-  std::string Validate() const;      // "" or what is wrong, naming the field
+  double track_gate_frac = 0.025;     // frame-to-frame match gate: this x image width (+ 0.1 x the cone's length)
+  int track_max_gap_frames = 3;       // a track missing this many frames ends
+  int min_track_frames = 5;           // shorter tracks are dropped as noise
+  double adjust_rate_hz = 10.0;       // frames the adjustment uses (the tracking uses every frame)
+  double sigma_px = 1.0;              // point noise of the adjustment
+  double robust_px = 2.0;             // Cauchy loss scale
+  double gyro_noise_rad_s = 0.003;    // relative-rotation sigma = this x sqrt(dt) + 0.05 deg
+  double gravity_sigma_deg = 2.0;     // the accelerometer's up direction per frame (walking accelerations)
+  double still_start_s = 1.0;         // the walk's first second, held still, gives the gyro bias
+  double height_tolerance = 0.15;     // a found cone's height within this fraction of an inventory height
+  int min_frames = 30;                // a cone seen in fewer adjusted frames is not constrained
+  double min_view_spread_deg = 90.0;  // ... nor one seen over a smaller arc of directions around it
+  double outlier_px = 4.0;            // an observation off by more is an outlier
+  double moved_fraction = 0.2;        // a cone with more outliers than this moved during the walk
+  std::string Validate() const;       // "" or what is wrong, naming the field
 };
 
 struct SurveyedCone {
-  rig_model::ConeSpec spec;  // the inventory's cone at its surveyed position
+  rig_model::ConeSpec spec;                           // the inventory's cone at its surveyed position
   Eigen::Vector3d sigma_m = Eigen::Vector3d::Zero();  // 1-sigma per axis (the adjustment's covariance)
   int frames = 0;                                     // adjusted frames that saw it
   double view_spread_deg = 0.0;                       // arc of directions it was seen from
   double rms_px = 0.0;                                // its reprojection RMS
   double outlier_fraction = 0.0;
-  double first_seen_s = 0.0, last_seen_s = 0.0;       // since the first frame
+  double first_seen_s = 0.0, last_seen_s = 0.0;  // since the first frame
 };
 
 struct SurveyResult {
@@ -77,7 +77,7 @@ struct SurveyResult {
   double reprojection_rms_px = 0.0;  // per coordinate, all observations
   int frames_adjusted = 0, observations = 0, tracks = 0;
   Eigen::Vector3d gyro_bias_rad_s = Eigen::Vector3d::Zero();  // IMU frame
-  std::vector<std::string> notes;    // what the user should know (no still start, ...)
+  std::vector<std::string> notes;                             // what the user should know (no still start, ...)
 };
 
 SurveyResult SurveyLayout(const SurveyInput& input, const Inventory& inventory, const SurveyConfig& config);

@@ -58,10 +58,10 @@ bool ReadSurveyBag(const std::string& path, const BagInputOptions& o, SurveyInpu
       for (const std::string& t : topics) s += (s.empty() ? "" : ", ") + t;
       return " (the bag has: " + (s.empty() ? std::string("nothing") : s) + ")";
     };
-    for (const auto& [topic, what] : std::vector<std::pair<std::string, std::string>>{
-             {info, "camera_info: the survey needs the calibrated camera"},
-             {imu, "IMU: the survey needs the gyro and the accelerometer"},
-             {image, "images"}}) {
+    for (const auto& [topic, what] :
+         std::vector<std::pair<std::string, std::string>>{{info, "camera_info: the survey needs the calibrated camera"},
+                                                          {imu, "IMU: the survey needs the gyro and the accelerometer"},
+                                                          {image, "images"}}) {
       if (!topics.count(topic)) {
         *error = path + ": no " + topic + " " + what + listing();
         return false;
@@ -113,7 +113,8 @@ bool ReadSurveyBag(const std::string& path, const BagInputOptions& o, SurveyInpu
     for (const rosbag::MessageInstance& m : image_view) {
       const sensor_msgs::Image::ConstPtr msg = m.instantiate<sensor_msgs::Image>();
       if (!msg) continue;
-      if (static_cast<int>(msg->width) != out->camera.width_px || static_cast<int>(msg->height) != out->camera.height_px) {
+      if (static_cast<int>(msg->width) != out->camera.width_px ||
+          static_cast<int>(msg->height) != out->camera.height_px) {
         *error = path + ": " + image + " is " + std::to_string(msg->width) + "x" + std::to_string(msg->height) +
                  ", camera_info says " + std::to_string(out->camera.width_px) + "x" +
                  std::to_string(out->camera.height_px);
@@ -134,7 +135,8 @@ bool ReadSurveyBag(const std::string& path, const BagInputOptions& o, SurveyInpu
     std::sort(out->frames.begin(), out->frames.end(),
               [](const SurveyFrame& a, const SurveyFrame& b) { return a.stamp_s < b.stamp_s; });
     if (out->imu.empty() || out->frames.empty()) {
-      *error = path + ": " + (out->imu.empty() ? "no readable IMU messages on " + imu : "no readable images on " + image);
+      *error =
+          path + ": " + (out->imu.empty() ? "no readable IMU messages on " + imu : "no readable images on " + image);
       return false;
     }
     return true;

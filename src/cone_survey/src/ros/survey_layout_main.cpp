@@ -21,8 +21,8 @@ void Usage() {
       "  --image-topic T       default camera/image_raw\n"
       "  --camera-info-topic T default camera/camera_info\n"
       "  --imu-topic T         default imu/data_raw\n"
-      "  --min-frames N        frames a cone must be seen in (default 20, at --adjust-rate-hz)\n"
-      "  --min-spread-deg D    arc of directions a cone must be seen from (default 30)\n"
+      "  --min-frames N        frames a cone must be seen in (default 30, at --adjust-rate-hz)\n"
+      "  --min-spread-deg D    arc of directions a cone must be seen from (default 90)\n"
       "  --adjust-rate-hz F    frames per second the adjustment uses (default 10)\n");
 }
 
@@ -118,8 +118,8 @@ int main(int argc, char** argv) {
   }
   std::ofstream out(output);
   out << "# survey_layout --bag " << bag << " --inventory " << inventory_file << "\n"
-      << "# frame: origin at " << inventory.Name(inventory.origin) << ", +x toward "
-      << inventory.Name(inventory.x_axis) << ", z up; sigma_m: 1-sigma per axis in this frame\n"
+      << "# frame: origin at " << inventory.Name(inventory.origin) << ", +x toward " << inventory.Name(inventory.x_axis)
+      << ", z up; sigma_m: 1-sigma per axis in this frame\n"
       << "# reprojection RMS " << r.reprojection_rms_px << " px over " << r.observations << " sightings in "
       << r.frames_adjusted << " frames\n"
       << rig_model::ConesYaml(cones, sigmas);
