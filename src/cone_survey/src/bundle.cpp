@@ -16,21 +16,27 @@ constexpr double kDeg = M_PI / 180.0;
 
 // Pixel errors of a cone's peak and base in one frame: the model points corrected for the eye
 // (3.16) (3.17) (3.18), through the pinhole of the undistorted pixels (3.10 without distortion).
+// The detected base lies off the model's base point along the cone's image axis by `base_px`
+// (positive: below it), one unknown for the walk: an offset of the detector's base reads as cones of
+// another size, which scales the whole layout.
 struct Reprojection {
   ConeSighting seen;
   double height_m, tau, fx, fy, cx, cy;
-  bool Errors(const double* q_world_camera, const double* p_camera, const double* base, double* r) const {
+  bool Errors(const double* q_world_camera, const double* p_camera, const double* base, const double* base_px,
+              double* r) const {
     const Eigen::Map<const Eigen::Quaterniond> q(q_world_camera);
     const Eigen::Map<const Eigen::Vector3d> p(p_camera), b(base);
     const auto points = rig_model::CorrectedModelPoints(b, height_m, tau, p);
-    const Eigen::Vector2d* seen_px[2] = {&seen.peak_px, &seen.base_px};
+    Eigen::Vector2d px[2];
     const int index[2] = {0, 2};  // peak, base of (peak, mid, base)
     for (int i = 0; i < 2; ++i) {
       const Eigen::Vector3d c = q.conjugate() * (points[index[i]] - p);
       if (!(c.z() > 1e-3)) return false;
-      r[2 * i] = fx * c.x() / c.z() + cx - seen_px[i]->x();
-      r[2 * i + 1] = fy * c.y() / c.z() + cy - seen_px[i]->y();
+      px[i] = Eigen::Vector2d(fx * c.x() / c.z() + cx, fy * c.y() / c.z() + cy);
     }
+    const Eigen::Vector2d foot = px[1] - *base_px * (px[0] - px[1]).normalized();
+    r[0] = px[0].x() - seen.peak_px.x(), r[1] = px[0].y() - seen.peak_px.y();
+    r[2] = foot.x() - seen.base_px.x(), r[3] = foot.y() - seen.base_px.y();
     return true;
   }
 };
@@ -38,8 +44,8 @@ struct Reprojection {
 struct ReprojectionCost {
   Reprojection model;
   double inv_sigma;
-  bool operator()(const double* q, const double* p, const double* b, double* r) const {
-    if (!model.Errors(q, p, b, r)) return false;
+  bool operator()(const double* q, const double* p, const double* b, const double* offset, double* r) const {
+    if (!model.Errors(q, p, b, offset, r)) return false;
     for (int i = 0; i < 4; ++i) r[i] *= inv_sigma;
     return true;
   }
@@ -98,6 +104,7 @@ bool AdjustSurvey(const SurveyInput& in, const Inventory& inv, const SurveyConfi
   std::vector<Eigen::Vector4d> q(K);  // Eigen's storage order x, y, z, w
   for (int k = 0; k < K; ++k) q[k] = Eigen::Quaterniond(s->R_world_camera[k]).normalized().coeffs();
   Eigen::Vector3d bias = bias0;
+  double base_offset_px = 0.0;
   ceres::Problem problem;
   const rig_model::CameraModel& cam = in.camera;
   std::vector<ReprojectionCost> models;
@@ -107,9 +114,9 @@ bool AdjustSurvey(const SurveyInput& in, const Inventory& inv, const SurveyConfi
                                 1.0 / config.sigma_px};
     models.push_back(cost);
     problem.AddResidualBlock(
-        new ceres::NumericDiffCostFunction<ReprojectionCost, ceres::CENTRAL, 4, 4, 3, 3>(new ReprojectionCost(cost)),
+        new ceres::NumericDiffCostFunction<ReprojectionCost, ceres::CENTRAL, 4, 4, 3, 3, 1>(new ReprojectionCost(cost)),
         new ceres::CauchyLoss(config.robust_px / config.sigma_px), q[o.frame].data(), s->p_camera_m[o.frame].data(),
-        s->base_m[o.cone].data());
+        s->base_m[o.cone].data(), &base_offset_px);
   }
   for (int k = 0; k < K; ++k) {
     Eigen::Vector3d up;
@@ -145,13 +152,15 @@ bool AdjustSurvey(const SurveyInput& in, const Inventory& inv, const SurveyConfi
   }
   for (int k = 0; k < K; ++k) s->R_world_camera[k] = Eigen::Quaterniond(q[k]).normalized().toRotationMatrix();
   result->bias_imu = bias;
+  result->base_offset_px = base_offset_px;
   // Errors per observation, in pixels.
   double sum_sq = 0.0;
   result->error_px.assign(models.size(), 1e9);
   for (size_t i = 0; i < models.size(); ++i) {
     const Observation& o = s->observations[i];
     double r[4];
-    if (!models[i].model.Errors(q[o.frame].data(), s->p_camera_m[o.frame].data(), s->base_m[o.cone].data(), r))
+    if (!models[i].model.Errors(q[o.frame].data(), s->p_camera_m[o.frame].data(), s->base_m[o.cone].data(),
+                                &base_offset_px, r))
       continue;
     result->error_px[i] = std::max(std::hypot(r[0], r[1]), std::hypot(r[2], r[3]));
     sum_sq += r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3];

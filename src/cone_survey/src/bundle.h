@@ -17,6 +17,7 @@ struct BundleResult {
   std::vector<double> error_px;          // per observation: the larger of its peak and base errors
   double rms_px = 0.0;                   // per coordinate over all observations
   Eigen::Vector3d bias_imu = Eigen::Vector3d::Zero();
+  double base_offset_px = 0.0;  // the detected bases' offset below the model's, along the cone's image axis
 };
 
 // Refines `survey` in place. False with a message when the solver or the covariance fails.

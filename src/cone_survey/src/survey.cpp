@@ -76,6 +76,7 @@ SurveyResult SurveyLayout(const SurveyInput& in, const Inventory& inv, const Sur
   res.observations = static_cast<int>(survey.observations.size());
   res.reprojection_rms_px = bundle.rms_px;
   res.gyro_bias_rad_s = bundle.bias_imu;
+  res.base_offset_px = bundle.base_offset_px;
 
   // Per cone: frames, directions, residuals.
   const double t0 = in.frames.front().stamp_s;

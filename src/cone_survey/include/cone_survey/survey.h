@@ -77,7 +77,8 @@ struct SurveyResult {
   double reprojection_rms_px = 0.0;  // per coordinate, all observations
   int frames_adjusted = 0, observations = 0, tracks = 0;
   Eigen::Vector3d gyro_bias_rad_s = Eigen::Vector3d::Zero();  // IMU frame
-  std::vector<std::string> notes;                             // what the user should know (no still start, ...)
+  double base_offset_px = 0.0;     // the detected bases below the model's, along the cone's image axis
+  std::vector<std::string> notes;  // what the user should know (no still start, ...)
 };
 
 SurveyResult SurveyLayout(const SurveyInput& input, const Inventory& inventory, const SurveyConfig& config);

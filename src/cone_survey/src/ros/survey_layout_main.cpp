@@ -103,8 +103,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "survey_layout: %s\n", r.error.c_str());
     return 1;
   }
-  std::printf("survey_layout: %d tracks, %d frames adjusted, %d observations; reprojection RMS %.2f px\n", r.tracks,
-              r.frames_adjusted, r.observations, r.reprojection_rms_px);
+  std::printf(
+      "survey_layout: %d tracks, %d frames adjusted, %d observations; reprojection RMS %.2f px; detected bases %.2f px "
+      "below the model's\n",
+      r.tracks, r.frames_adjusted, r.observations, r.reprojection_rms_px, r.base_offset_px);
   std::printf("  cone                      x_m      y_m      z_m   sigma_xyz_mm        frames  spread_deg  rms_px\n");
   std::vector<rig_model::ConeSpec> cones;
   std::vector<Eigen::Vector3d> sigmas;

@@ -1,6 +1,7 @@
 #include "rig_sim/scenario.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace rig_sim {
 namespace {
@@ -200,6 +201,10 @@ void FitTrajectoryToScene(Scenario* s) {
   t.survey_center_m = centre;
   t.survey_radius_m = reach_m + 2.2;
   t.survey_sweep_m = std::min(1.5, 0.6 * reach_m);
+  // The walk's range of distances from the origin's look target (radius within +-8 %, 1.2-1.8 m high).
+  const double off_m = centre.norm(), rise_m = 1.8 - t.look_target_height_m;
+  t.min_distance_m = std::max(0.3, 0.92 * t.survey_radius_m - off_m);
+  t.max_distance_m = std::hypot(1.08 * t.survey_radius_m + off_m, rise_m);
 }
 
 void ShortenScenario(double duration_s, double image_scale, Scenario* s) {
