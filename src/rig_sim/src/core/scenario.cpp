@@ -37,6 +37,10 @@ const std::vector<ScenarioInfo>& ListScenarios() {
        "40 s walk-around of a layout for cone_survey's survey_layout (any layout with --layout; default "
        "survey.yaml, seven mixed cones): a still start (2 s), then one loop on a circle 2.2 m outside the "
        "cones at 1.2-1.8 m height, looking at points swept across the layout"},
+      {"site",
+       "60 s walk through a site of 14 cones over about 19 m x 19 m (site.yaml): one loop between an inner "
+       "ring and an outer ring, 1.5-6 m from the nearest cones, looking across the site, often with only "
+       "one or two cones in view"},
   };
   return list;
 }
@@ -157,6 +161,15 @@ bool MakeScenario(const std::string& name, uint64_t seed, const std::string& lay
     s.layout = "survey.yaml";
     t.segments = {Still(-1.0, 3.0)};
     t.look_target_height_m = 0.2;
+  } else if (name == "site") {
+    t.duration_s = 60.0;
+    s.layout = "site.yaml";
+    t.segments = {Still(-1.0, 3.0)};
+    t.survey_radius_m = 6.0;  // between the rings (3 m and ~9 m)
+    t.survey_loops = 1.0;
+    t.survey_sweep_m = 5.0;  // the look swings far across the site
+    t.min_distance_m = 5.0;  // 6 m +- 8 %, 1.2-1.8 m high, from the look target
+    t.max_distance_m = 7.0;
   } else if (name == "indoor") {
     t.duration_s = 20.0;
     s.layout = "thesis_indoor.yaml";
