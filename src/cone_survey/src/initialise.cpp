@@ -202,23 +202,35 @@ std::vector<Group> GroupTracks(std::vector<Placed>* placed) {
   return groups;
 }
 
-// The scale that puts most groups (by sightings) on an inventory height.
+// The scale that puts most groups (by sightings) on an inventory height, each height taking no more
+// groups than the inventory has cones of it: 0.30, 0.46 and 0.71 m are each 1.54 times the last, so
+// a scale off by that factor also puts many groups on some height, but on the wrong number of them.
 double ScaleFromHeights(const std::vector<Group>& groups, const Inventory& inv, double tol) {
+  std::map<int, int> count_of;  // inventory height (mm) -> cones
+  for (const rig_model::ConeSpec& c : inv.cones) ++count_of[static_cast<int>(std::lround(c.height_m * 1000.0))];
   auto score = [&](double scale) {
-    double s = 0.0;
+    std::map<int, std::vector<double>> votes;  // per height, each matching group's vote
     for (const Group& g : groups) {
+      int best_key = -1;
       double best = tol;
-      for (const rig_model::ConeSpec& c : inv.cones)
-        best = std::min(best, std::abs(std::log(scale * g.height / c.height_m)));
-      s += g.count * (best - tol);
+      for (const auto& [key, n] : count_of) {
+        const double e = std::abs(std::log(scale * g.height / (key / 1000.0)));
+        if (e < best) best = e, best_key = key;
+      }
+      if (best_key >= 0) votes[best_key].push_back(g.count * (1.0 - best / tol));
     }
-    return s;
+    double total = 0.0;
+    for (auto& [key, v] : votes) {
+      std::sort(v.rbegin(), v.rend());
+      for (int i = 0; i < std::min<int>(count_of[key], static_cast<int>(v.size())); ++i) total += v[i];
+    }
+    return total;
   };
-  double scale = 1.0, best_score = 1e300;
+  double scale = 1.0, best_score = -1.0;
   for (const Group& g : groups)
     for (const rig_model::ConeSpec& c : inv.cones) {
       const double s = c.height_m / g.height, v = score(s);
-      if (v < best_score) best_score = v, scale = s;
+      if (v > best_score) best_score = v, scale = s;
     }
   return scale;
 }
@@ -294,24 +306,28 @@ bool InitialiseSurvey(const SurveyInput& in, const Inventory& inv, const SurveyC
   std::vector<Eigen::Vector3d> cameras, bases, prev_cameras, prev_bases;
   std::vector<double> heights;
   const double end_s = in.frames[frames.back()].stamp_s - t0;
+  // Frames before the rig moved add no parallax: the solves start at the last still frame (k0), and
+  // the frames before it take its position.
   double first_window_s = 6.0;
+  int k0 = 0;
   for (int k = 0; k < K; ++k)  // six seconds after the first frame that moved
     if (gyro.Delta(in.frames[frames[0]].stamp_s, in.frames[frames[k]].stamp_s, bias_imu)
             .isApprox(Eigen::Matrix3d::Identity(), 1e-3) == false) {
       first_window_s = in.frames[frames[k]].stamp_s - t0 + 6.0;
+      k0 = std::max(0, k - 1);
       break;
     }
   for (double window_s = first_window_s;; window_s += 3.0) {
     const bool last = window_s >= end_s;
     int Kw = 0;
     while (Kw < K && in.frames[frames[Kw]].stamp_s - t0 <= window_s + 1e-9) ++Kw;
-    std::vector<int> frames_w(frames.begin(), frames.begin() + Kw);
+    std::vector<int> frames_w(frames.begin() + k0, frames.begin() + Kw);
     std::vector<Use> uses_w;
     std::vector<int> track_of;  // uses_w -> uses
     for (int t = 0; t < T; ++t) {
       Use u{uses[t].track, {}};
-      for (const auto& sk : uses[t].sightings)
-        if (sk.first < Kw) u.sightings.push_back(sk);
+      for (const auto& [k, s] : uses[t].sightings)
+        if (k >= k0 && k < Kw) u.sightings.emplace_back(k - k0, s);
       if (u.sightings.size() >= 2) uses_w.push_back(u), track_of.push_back(t);
     }
     if (uses_w.empty() && !last) continue;
@@ -331,7 +347,7 @@ bool InitialiseSurvey(const SurveyInput& in, const Inventory& inv, const SurveyC
     for (int i = 0; i < Tw; ++i) unit[i] = i;
     std::vector<std::vector<double>> weights(Tw);
     for (int i = 0; i < Tw; ++i) weights[i].assign(uses_w[i].sightings.size(), 1.0);
-    std::vector<Eigen::Matrix3d> R_w(R.begin(), R.begin() + Kw);
+    std::vector<Eigen::Matrix3d> R_w(R.begin() + k0, R.begin() + Kw);
     // Twice: the second time with the robust weights of the first (and, in the last window, the base
     // points moved to the cone's front, 3.16).
     for (int robust = 0; robust < 2; ++robust) {
@@ -369,18 +385,20 @@ bool InitialiseSurvey(const SurveyInput& in, const Inventory& inv, const SurveyC
       const auto& seen = uses_w[i].sightings;
       const Eigen::Vector3d c0 = cameras[seen[seen.size() / 4].first], c1 = cameras[seen[3 * seen.size() / 4].first];
       if ((c1 - c0).norm() < 0.05 * (bases[i] - c0).norm()) continue;
-      const double first = in.frames[frames[uses_w[i].sightings.front().first]].stamp_s - t0;
-      const double last_seen = in.frames[frames[uses_w[i].sightings.back().first]].stamp_s - t0;
+      const double first = in.frames[frames_w[seen.front().first]].stamp_s - t0;
+      const double last_seen = in.frames[frames_w[seen.back().first]].stamp_s - t0;
       placed.push_back(
           {i, scale * bases[i], scale * heights[i], static_cast<int>(uses_w[i].sightings.size()), first, last_seen});
     }
     for (Eigen::Vector3d& c : cameras) c *= scale;
+    cameras.insert(cameras.begin(), k0, cameras.front());  // the still start
+    for (Use& u : uses_w)
+      for (auto& sk : u.sightings) sk.first += k0;
     uses = uses_w;
     groups = GroupTracks(&placed);
     placed_all = placed;
     break;
   }
-  const double scale = 1.0;
   std::vector<Placed>& placed = placed_all;
   std::vector<int> unmatched_groups;
   for (int g = 0; g < static_cast<int>(groups.size()); ++g) {
@@ -391,11 +409,11 @@ bool InitialiseSurvey(const SurveyInput& in, const Inventory& inv, const SurveyC
     else
       class_groups[key].push_back(g);
   }
-  // Anchor the frame early for the messages: positions relative to the first adjusted camera, scaled.
+  // Where a found cone is, for the messages: relative to the first adjusted camera.
   auto where = [&](const Group& g) {
     std::ostringstream s;
     s.precision(2);
-    s << std::fixed << "a cone of " << scale * g.height << " m at (" << scale * g.base.x() << ", " << scale * g.base.y()
+    s << std::fixed << "a cone of " << g.height << " m at (" << g.base.x() << ", " << g.base.y()
       << ") m from the first camera, seen " << g.first_s << "-" << g.last_s << " s";
     return s.str();
   };
@@ -427,8 +445,8 @@ bool InitialiseSurvey(const SurveyInput& in, const Inventory& inv, const SurveyC
     return false;
   }
   // The output frame: origin at the origin cone, +x toward the +x cone, z up.
-  const Eigen::Vector3d origin = scale * groups[group_of_cone[inv.origin]].base;
-  const Eigen::Vector3d toward = scale * groups[group_of_cone[inv.x_axis]].base - origin;
+  const Eigen::Vector3d origin = groups[group_of_cone[inv.origin]].base;
+  const Eigen::Vector3d toward = groups[group_of_cone[inv.x_axis]].base - origin;
   const Eigen::Matrix3d R_out_world =
       Eigen::AngleAxisd(-std::atan2(toward.y(), toward.x()), Eigen::Vector3d::UnitZ()).toRotationMatrix();
   out->frames = frames;
@@ -436,10 +454,9 @@ bool InitialiseSurvey(const SurveyInput& in, const Inventory& inv, const SurveyC
   out->p_camera_m.resize(K);
   for (int k = 0; k < K; ++k) {
     out->R_world_camera[k] = R_out_world * R[k];
-    out->p_camera_m[k] = R_out_world * (scale * cameras[k] - origin);
+    out->p_camera_m[k] = R_out_world * (cameras[k] - origin);
   }
-  for (size_t i = 0; i < inv.cones.size(); ++i)
-    out->base_m[i] = R_out_world * (scale * groups[group_of_cone[i]].base - origin);
+  for (size_t i = 0; i < inv.cones.size(); ++i) out->base_m[i] = R_out_world * (groups[group_of_cone[i]].base - origin);
   out->base_m[inv.origin].setZero();
   out->base_m[inv.x_axis].y() = 0.0;
   // Observations: every adjusted sighting of every track in an assigned group.
