@@ -182,10 +182,11 @@ TEST(SurveyTool, WritesALayoutThatRigModelReadsBack) {
   const std::string inv = TempPath("inv.yaml"), out = TempPath("out.yaml");
   std::ofstream(inv) << InventoryYaml(SharedLayout().cones, 0, 1);
   std::string err;
-  EXPECT_EQ(RunTool("--bag " + SharedBag() + " --inventory " + inv + " --output " + out, &err), 0) << err;
+  const int status = RunTool("--bag " + SharedBag() + " --inventory " + inv + " --output " + out, &err);
+  std::remove(inv.c_str());
+  ASSERT_EQ(status, 0) << err;
   const rig_model::Layout layout = rig_model::LoadLayoutFile(out);
   const std::vector<Eigen::Vector3d> sigmas = rig_model::LoadConeSigmas(out);
-  std::remove(inv.c_str());
   std::remove(out.c_str());
   ASSERT_EQ(layout.cones.size(), SharedLayout().cones.size());
   EXPECT_EQ(layout.cones[0].base_m.norm(), 0.0);
