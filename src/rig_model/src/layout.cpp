@@ -6,6 +6,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "rig_model/strict_yaml.h"
+#include "rig_model/surveyed_layout.h"
 
 namespace rig_model {
 namespace {
@@ -14,8 +15,8 @@ constexpr double kPi = 3.14159265358979323846;
 
 const std::vector<std::string> kTopKeys = {"equilateral", "cones", "boxes", "patches", "people", "platforms", "ground"};
 const std::vector<std::string> kEquilateralKeys = {"side_m", "height_m", "style"};
-const std::vector<std::string> kConeKeys = {"x_m",   "y_m",    "z_m",     "height_m",    "tau",
-                                            "style", "albedo", "collars", "base_plate_m"};
+const std::vector<std::string> kConeKeys = {"x_m",   "y_m",    "z_m",     "height_m",     "tau",
+                                            "style", "albedo", "collars", "base_plate_m", "sigma_m"};
 const std::vector<std::string> kBoxKeys = {"x_m", "y_m", "yaw_deg", "sx_m", "sy_m", "sz_m", "albedo"};
 const std::vector<std::string> kPatchKeys = {"x_m", "y_m", "yaw_deg", "sx_m", "sy_m", "albedo"};
 const std::vector<std::string> kPersonKeys = {"x_m", "y_m", "height_m"};
@@ -69,6 +70,18 @@ ConeSpec ReadCone(const StrictReader& r, const YAML::Node& n, const std::string&
   if (!(cone.tau > 0.02 && cone.tau < 1.0)) r.Fail(n["tau"], FieldPath(where, "tau"), "must be in (0.02, 1)");
   cone.albedo = ReadColor(r, n, where, "albedo", cone.albedo);
   cone.base_plate_m = r.Number(n, where, "base_plate_m", cone.base_plate_m);
+  if (const YAML::Node sigma = n["sigma_m"]) {  // a surveyed position's 1-sigma: LoadConeSigmas (surveyed_layout.h)
+    const std::string field = FieldPath(where, "sigma_m");
+    if (!sigma.IsSequence() || sigma.size() != 3) r.Fail(sigma, field, "must be [x, y, z] in metres");
+    for (int i = 0; i < 3; ++i) {
+      double v = NAN;
+      try {
+        v = sigma[i].as<double>();
+      } catch (const YAML::Exception&) {
+      }
+      if (!(std::isfinite(v) && v >= 0.0)) r.Fail(sigma, field, "components must be finite and >= 0");
+    }
+  }
   if (!(cone.base_plate_m >= 0.0)) r.Fail(n["base_plate_m"], FieldPath(where, "base_plate_m"), "must be >= 0");
   if (const YAML::Node collars = n["collars"]) {
     const std::string field = FieldPath(where, "collars");
@@ -294,5 +307,39 @@ Layout ParseLayout(const std::string& yaml_text, const std::string& source) {
 }
 
 Layout LoadLayoutFile(const std::string& path) { return ParseRoot(LoadYamlFile(path), path); }
+
+std::vector<Eigen::Vector3d> LoadConeSigmas(const std::string& path) {
+  const YAML::Node root = LoadYamlFile(path);
+  const Layout layout = ParseRoot(root, path);  // checks every sigma_m
+  std::vector<Eigen::Vector3d> out(layout.cones.size(), Eigen::Vector3d::Constant(NAN));
+  const size_t first_listed = root["equilateral"] ? 3 : 0;
+  if (const YAML::Node list = root["cones"]) {
+    for (size_t i = 0; i < list.size(); ++i) {
+      if (const YAML::Node sigma = list[i]["sigma_m"])
+        for (int k = 0; k < 3; ++k) out[first_listed + i][k] = sigma[k].as<double>();
+    }
+  }
+  return out;
+}
+
+std::string ConesYaml(const std::vector<ConeSpec>& cones, const std::vector<Eigen::Vector3d>& sigmas_m) {
+  std::ostringstream y;
+  y.setf(std::ios::fixed);
+  y << "cones:\n";
+  for (size_t i = 0; i < cones.size(); ++i) {
+    const ConeSpec& c = cones[i];
+    y.precision(4);
+    y << "  - {x_m: " << c.base_m.x() << ", y_m: " << c.base_m.y() << ", z_m: " << c.base_m.z()
+      << ", height_m: " << c.height_m << ", style: " << (c.style == ConeStyle::kRoad ? "road" : "plain");
+    y.precision(6);
+    if (std::abs(c.tau - ConeSpec().tau) > 1e-9) y << ", tau: " << c.tau;
+    if (i < sigmas_m.size() && !sigmas_m[i].array().isNaN().any()) {
+      y.precision(4);
+      y << ", sigma_m: [" << sigmas_m[i].x() << ", " << sigmas_m[i].y() << ", " << sigmas_m[i].z() << "]";
+    }
+    y << "}\n";
+  }
+  return y.str();
+}
 
 }  // namespace rig_model

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <functional>
 #include <string>
@@ -11,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "rig_model/strict_yaml.h"
+#include "rig_model/surveyed_layout.h"
 #include "test_util.h"
 
 namespace rig_model {
@@ -142,6 +144,38 @@ TEST(Layout, HeightsAre4To36Inches) {
   EXPECT_NE(low.find("h.yaml:4: cones[2].height_m: 0.05 is outside [0.1, 0.92] m"), std::string::npos) << low;
   const std::string eq = ErrorOf([] { ParseLayout("equilateral: {height_m: 1.2}\n", "h.yaml"); });
   EXPECT_NE(eq.find("equilateral.height_m: 1.2 is outside"), std::string::npos) << eq;
+}
+
+TEST(Layout, SurveyedSigmaIsOptionalAndChecked) {
+  const std::string two = "  - {x_m: 1}\n  - {x_m: 2}\n";
+  const std::string path = "/tmp/rig_model_test_sigmas_" + std::to_string(getpid()) + ".yaml";
+  std::ofstream(path) << "equilateral: {side_m: 2}\ncones:\n" + two + "  - {x_m: 3, sigma_m: [0.004, 0.005, 0.01]}\n";
+  const Layout surveyed = LoadLayoutFile(path);
+  const std::vector<Eigen::Vector3d> sigmas = LoadConeSigmas(path);
+  std::remove(path.c_str());
+  ASSERT_EQ(sigmas.size(), 6u);
+  EXPECT_DOUBLE_EQ(sigmas[5].y(), 0.005);
+  EXPECT_DOUBLE_EQ(surveyed.cones[5].base_m.x(), 3.0);
+  for (int i = 0; i < 5; ++i) EXPECT_TRUE(sigmas[i].array().isNaN().all()) << i;
+  // Written back by ConesYaml and read again: the same cones and sigmas.
+  std::ofstream(path) << ConesYaml(surveyed.cones, sigmas);
+  const Layout again = LoadLayoutFile(path);
+  const std::vector<Eigen::Vector3d> sigmas_again = LoadConeSigmas(path);
+  std::remove(path.c_str());
+  ASSERT_EQ(again.cones.size(), 6u);
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_LT((again.cones[i].base_m - surveyed.cones[i].base_m).norm(), 1e-4) << i;
+    EXPECT_EQ(again.cones[i].height_m, surveyed.cones[i].height_m) << i;
+    EXPECT_EQ(again.cones[i].style, surveyed.cones[i].style) << i;
+  }
+  EXPECT_DOUBLE_EQ(sigmas_again[5].z(), 0.01);
+  EXPECT_TRUE(sigmas_again[0].array().isNaN().all());
+  auto error = [&](const std::string& sigma) {
+    return ErrorOf([&] { ParseLayout("cones:\n" + two + "  - {x_m: 3, sigma_m: " + sigma + "}\n", "s.yaml"); });
+  };
+  EXPECT_NE(error("[0.1, 0.1]").find("s.yaml:4: cones[2].sigma_m: must be [x, y, z] in metres"), std::string::npos);
+  EXPECT_NE(error("[0.1, -0.1, 0]").find("cones[2].sigma_m: components must be finite and >= 0"), std::string::npos);
+  EXPECT_NE(error("[0.1, abc, 0]").find("cones[2].sigma_m: components must be finite"), std::string::npos);
 }
 
 TEST(Layout, BadValuesNameTheField) {

@@ -46,6 +46,10 @@ const std::vector<ScenarioInfo>& ListLooks();
 // Returns false with a message naming the known looks on an unknown name.
 bool ApplyLook(const std::string& name, Scenario* s, std::string* error);
 
+// Fits a scenario's walk to its scene after the layout changed (make_bag --layout): the `survey`
+// walk circles the layout's cones 2.2 m outside the farthest one; other scenarios are unchanged.
+void FitTrajectoryToScene(Scenario* s);
+
 // The scenario with a shorter duration and/or a smaller image (for samples and tests).
 void ShortenScenario(double duration_s, double image_scale, Scenario* s);
 

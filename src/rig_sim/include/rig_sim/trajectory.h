@@ -34,6 +34,14 @@ struct TrajectoryConfig {
   double look_target_height_m = 0.3;
   double jitter_deg = 1.5;        // hand tremor amplitude
   std::vector<Segment> segments;  // must not overlap
+  // Survey walk (rig_sim's `survey` scenario, for cone_survey's survey_layout): when
+  // survey_radius_m > 0 the camera walks survey_loops times around a circle of that radius about
+  // survey_center_m at 1.2-1.8 m height, looking at ground points swept across the layout, instead
+  // of the orbit above. The loop rate follows from the duration (a shortened walk still closes it).
+  double survey_radius_m = 0.0;
+  double survey_loops = 1.15;
+  Eigen::Vector2d survey_center_m = Eigen::Vector2d::Zero();
+  double survey_sweep_m = 1.0;  // half-width of the look target's sweep across the layout
   std::string Validate() const;
 };
 
@@ -59,12 +67,14 @@ class Trajectory {
   double Warp(double t_s) const;  // motion time s(t): stops in still segments
   double Window(const Segment& seg, double t_s) const;
   TruePose BaseAt(double s) const;
+  TruePose SurveyAt(double s) const;
 
   TrajectoryConfig config_;
   // Seeded sinusoid parameters: frequencies (Hz) and phases (rad).
   double phase_[12];
   double freq_[12];
   Eigen::Vector3d shake_phase_;
+  double survey_rate_rad_s_ = 0.0;  // loop rate in motion time s
 };
 
 // C2 smooth step 6x^5 - 15x^4 + 10x^3 on [0, 1], clamped outside.

@@ -1,6 +1,7 @@
 #include "rig_sim/scenario.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace rig_sim {
 namespace {
@@ -32,6 +33,14 @@ const std::vector<ScenarioInfo>& ListScenarios() {
        "the handheld walk (60 s) around three mixed road cones (one wide European sleeve, two US "
        "two-band collars) in the realistic look: sun and cloud with cast shadows, weathered cones, "
        "white balance and exposure hunting, shot noise, vignetting, motion blur"},
+      {"survey",
+       "40 s walk-around of a layout for cone_survey's survey_layout (any layout with --layout; default "
+       "survey.yaml, seven mixed cones): a still start (2 s), then one loop on a circle 2.2 m outside the "
+       "cones at 1.2-1.8 m height, looking at points swept across the layout"},
+      {"site",
+       "60 s walk through a site of 14 cones over about 19 m x 19 m (site.yaml): one loop between an inner "
+       "ring and an outer ring, 1.5-6 m from the nearest cones, looking across the site, often with only "
+       "one or two cones in view"},
   };
   return list;
 }
@@ -147,6 +156,20 @@ bool MakeScenario(const std::string& name, uint64_t seed, const std::string& lay
     s.layout = "realistic.yaml";
     t.segments = {Still(-1.0, 4.5), Shake(14.0, 3.0, 7.0, 3.0), LookAway(24.0, 6.4, 100.0), Still(38.0, 4.0),
                   Shake(48.0, 2.5, 6.0, 4.0)};
+  } else if (name == "survey") {
+    t.duration_s = 40.0;
+    s.layout = "survey.yaml";
+    t.segments = {Still(-1.0, 3.0)};
+    t.look_target_height_m = 0.2;
+  } else if (name == "site") {
+    t.duration_s = 60.0;
+    s.layout = "site.yaml";
+    t.segments = {Still(-1.0, 3.0)};
+    t.survey_radius_m = 6.0;  // between the rings (3 m and ~9 m)
+    t.survey_loops = 1.0;
+    t.survey_sweep_m = 5.0;  // the look swings far across the site
+    t.min_distance_m = 5.0;  // 6 m +- 8 %, 1.2-1.8 m high, from the look target
+    t.max_distance_m = 7.0;
   } else if (name == "indoor") {
     t.duration_s = 20.0;
     s.layout = "thesis_indoor.yaml";
@@ -166,6 +189,7 @@ bool MakeScenario(const std::string& name, uint64_t seed, const std::string& lay
   for (const auto& i : ListScenarios())
     if (i.name == name) s.description = i.description;
   if (!LoadSceneYaml(layouts_dir + "/" + s.layout, &s.scene, error)) return false;
+  FitTrajectoryToScene(&s);
   // Independent streams per component, all from the one seed.
   t.seed = seed;
   s.imu.seed = seed * 0x9E3779B97F4A7C15ull + 1;
@@ -174,6 +198,26 @@ bool MakeScenario(const std::string& name, uint64_t seed, const std::string& lay
   if (name == "realistic" && !ApplyLook("realistic", &s, error)) return false;
   *out = s;
   return true;
+}
+
+void FitTrajectoryToScene(Scenario* s) {
+  if (s->name != "survey" || s->scene.cones.empty()) return;
+  Eigen::Vector2d lo = s->scene.cones[0].base_m.head<2>(), hi = lo;
+  for (const ConeSpec& c : s->scene.cones) {
+    lo = lo.cwiseMin(c.base_m.head<2>());
+    hi = hi.cwiseMax(c.base_m.head<2>());
+  }
+  const Eigen::Vector2d centre = 0.5 * (lo + hi);
+  double reach_m = 0.0;  // the hull's farthest point from the centre
+  for (const ConeSpec& c : s->scene.cones) reach_m = std::max(reach_m, (c.base_m.head<2>() - centre).norm());
+  TrajectoryConfig& t = s->trajectory;
+  t.survey_center_m = centre;
+  t.survey_radius_m = reach_m + 2.2;
+  t.survey_sweep_m = std::min(1.5, 0.6 * reach_m);
+  // The walk's range of distances from the origin's look target (radius within +-8 %, 1.2-1.8 m high).
+  const double off_m = centre.norm(), rise_m = 1.8 - t.look_target_height_m;
+  t.min_distance_m = std::max(0.3, 0.92 * t.survey_radius_m - off_m);
+  t.max_distance_m = std::hypot(1.08 * t.survey_radius_m + off_m, rise_m);
 }
 
 void ShortenScenario(double duration_s, double image_scale, Scenario* s) {

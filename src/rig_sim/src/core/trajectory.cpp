@@ -38,6 +38,8 @@ std::string TrajectoryConfig::Validate() const {
     err << "need 0.2 < min_distance_m <= max_distance_m";
   else if (!(min_elevation_deg >= 0.0 && max_elevation_deg <= 85.0 && min_elevation_deg <= max_elevation_deg))
     err << "need 0 <= min_elevation_deg <= max_elevation_deg <= 85";
+  else if (!(survey_radius_m >= 0.0 && survey_radius_m < 200.0 && survey_loops > 0.0 && survey_sweep_m >= 0.0))
+    err << "need 0 <= survey_radius_m < 200, survey_loops > 0 and survey_sweep_m >= 0";
   if (!err.str().empty()) return err.str();
   std::vector<Segment> sorted = segments;
   std::sort(sorted.begin(), sorted.end(), [](const Segment& a, const Segment& b) { return a.start_s < b.start_s; });
@@ -64,6 +66,8 @@ Trajectory::Trajectory(const TrajectoryConfig& config) : config_(config) {
     freq_[i] = lo[i] * std::uniform_real_distribution<double>(1.0, 1.6)(rng);
   }
   shake_phase_ = Eigen::Vector3d(phase(rng), phase(rng), phase(rng));
+  // The loop closes over the walk's motion time (still segments stop it).
+  survey_rate_rad_s_ = 2.0 * kPi * config.survey_loops / std::max(1.0, Warp(config.duration_s));
 }
 
 double Trajectory::Window(const Segment& seg, double t) const {
@@ -105,8 +109,33 @@ bool Trajectory::IsStill(double t) const {
   return false;
 }
 
+TruePose Trajectory::SurveyAt(double s) const {
+  const TrajectoryConfig& c = config_;
+  // Height, pitch and the sweep vary with the walk's azimuth (not with time), so a short walk
+  // varies them as much as a long one and every cone is seen from several directions and heights.
+  const double a = phase_[0] + survey_rate_rad_s_ * s;
+  const Eigen::Vector2d radial(std::cos(a), std::sin(a)), tangent(-std::sin(a), std::cos(a));
+  const double height_m = 1.5 + 0.3 * std::sin(2.0 * a + phase_[1]);
+  const double radius_m = c.survey_radius_m * (1.0 + 0.08 * std::sin(2.0 * a + phase_[2]));
+  const Eigen::Vector2d p_xy = c.survey_center_m + radius_m * radial;
+  const Eigen::Vector2d target_xy = c.survey_center_m + c.survey_sweep_m * std::sin(3.0 * a + phase_[3]) * tangent +
+                                    0.5 * c.survey_sweep_m * std::sin(2.0 * a + phase_[4]) * radial;
+  const Eigen::Vector3d p(p_xy.x(), p_xy.y(), height_m);
+  const Eigen::Vector3d target(target_xy.x(), target_xy.y(), c.look_target_height_m);
+  const Eigen::Vector3d z = (target - p).normalized();
+  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
+  const Eigen::Vector3d y = z.cross(x);
+  Eigen::Matrix3d R;
+  R << x, y, z;
+  auto wave = [&](int i) { return std::sin(2.0 * kPi * freq_[i] * s + phase_[i]); };
+  const double j = c.jitter_deg * kDeg;
+  const Eigen::Vector3d tremor_rad(j * wave(9), j * wave(10), 4.0 * j * wave(11));
+  return {R * ExpSo3(tremor_rad), p + 0.004 * Eigen::Vector3d(wave(6), wave(7), wave(8))};
+}
+
 TruePose Trajectory::BaseAt(double s) const {
   const TrajectoryConfig& c = config_;
+  if (c.survey_radius_m > 0.0) return SurveyAt(s);
   auto wave = [&](int i, double t) { return std::sin(2.0 * kPi * freq_[i] * t + phase_[i]); };
   // Walk around the cones: mean orbit rate plus a slow back-and-forth.
   const double azimuth = phase_[0] + c.orbit_rate_deg_s * kDeg * s + 0.6 * wave(0, s);

@@ -24,7 +24,8 @@ void Usage() {
       "  --look NAME            how the world and the camera look (default: the scenario's, plain\n"
       "                         for all but realistic); see looks below\n"
       "  --layouts DIR          directory of layout files (default: rig_model's config/layouts)\n"
-      "  --layout FILE          use this layout file instead of the scenario's\n\n"
+      "  --layout FILE          use this layout file instead of the scenario's (the survey walk\n"
+      "                         circles any layout; random ones: rosrun rig_sim make_layout)\n\n"
       "scenarios:\n");
   for (const auto& s : rig_sim::ListScenarios()) std::printf("  %-10s %s\n", s.name.c_str(), s.description.c_str());
   std::printf("\nlooks:\n");
@@ -98,6 +99,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "make_bag: %s\n", err.c_str());
     return 1;
   }
+  rig_sim::FitTrajectoryToScene(&scenario);
   rig_sim::ShortenScenario(duration, scale, &scenario);
   if (noise >= 0.0) scenario.render.noise_sigma_dn = noise;
   rig_sim::BagOptions opt;
