@@ -2,7 +2,7 @@
 """Trains cone_tracker's small cone detector for photographs and exports it to ONNX.
 
   /usr/bin/python3 train_cone_detector.py --data /work/shared/data/images/tracon_train \
-      --out ../models/cone_detector.onnx [--minutes 30] [--all]
+      --out ../models/cone_detector.onnx [--minutes 30 | --steps N] [--all] [--resume OLD.pt --lr 1e-3]
 
 Data: YOLO-labelled photos (DATA/images/*.jpg, DATA/labels/*.txt, `class cx cy w h` normalised,
 one box per cone); the TraCon train split (README, "Learned detector for photos"). Nothing is
@@ -238,7 +238,24 @@ def decode(out, score_min, nms_iou):
     for d in dets:
         if all(iou(d, k) <= nms_iou for k in kept):
             kept.append(d)
-    return kept
+    return merge_contained(kept)
+
+
+def merge_contained(dets, contain_frac=0.7, axis_frac=0.25):
+    """A box part of a larger box's cone is merged into it (dnn_detector.cpp's MergeContainedBoxes)."""
+    area = lambda d: (d[2] - d[0]) * (d[3] - d[1])
+    kept = []
+    for d in sorted(dets, key=lambda d: -area(d)):
+        for j, k in enumerate(kept):
+            ix = max(0.0, min(d[2], k[2]) - max(d[0], k[0]))
+            iy = max(0.0, min(d[3], k[3]) - max(d[1], k[1]))
+            if area(d) > 0 and ix * iy >= contain_frac * area(d) and \
+                    abs((d[0] + d[2]) / 2 - (k[0] + k[2]) / 2) <= axis_frac * (k[2] - k[0]):
+                kept[j] = k[:4] + (max(k[4], d[4]),)
+                break
+        else:
+            kept.append(d)
+    return sorted(kept, key=lambda d: -d[4])
 
 
 def iou(a, b):
@@ -307,9 +324,14 @@ def main():
     ap.add_argument("--all", action="store_true", help="train on every photo (no validation split)")
     ap.add_argument("--cache", default="/tmp/cone_detector_cache.pkl", help="decoded, downsized photos")
     ap.add_argument("--seed", type=int, default=7)
+    ap.add_argument("--threads", type=int, default=1,
+                    help="torch and OpenCV threads (the machine is shared: 1 by default)")
+    ap.add_argument("--resume", default="", help="start from these weights (a .pt this script wrote)")
+    ap.add_argument("--lr", type=float, default=3e-3, help="peak learning rate of the warm-up + cosine schedule")
     args = ap.parse_args()
 
-    torch.set_num_threads(2)
+    torch.set_num_threads(args.threads)
+    cv2.setNumThreads(args.threads)
     torch.manual_seed(args.seed)
     rng = np.random.default_rng(args.seed)
     items = load_dataset(args.data, args.cache)
@@ -320,8 +342,11 @@ def main():
           f"{'no held-out split' if args.all else f'validation {len(val)}'}", flush=True)
 
     model = ConeNet()
+    if args.resume:
+        model.load_state_dict(torch.load(args.resume, map_location="cpu"))
+        print(f"resumed from {args.resume}", flush=True)
     print(f"parameters: {sum(p.numel() for p in model.parameters())}", flush=True)
-    per_epoch, batch, max_lr = 256, 16, 3e-3
+    per_epoch, batch, max_lr = 256, 16, args.lr
     opt = torch.optim.AdamW(model.parameters(), lr=max_lr, weight_decay=5e-4)
     t0 = time.time()
     step, epoch, done = 0, 0, False

@@ -103,6 +103,36 @@ TEST(DnnDetector, OverlapOfBoxes) {
   EXPECT_DOUBLE_EQ(kept[1].score, 0.1);
 }
 
+// A striped cone boxed twice (its upper band, scored higher, and the whole cone): one box, the whole
+// cone's, with the higher score. A box inside but off the cone's axis, one only partly inside, and a
+// separate cone stay.
+TEST(DnnDetector, MergesABoxThatIsPartOfALargerConesBox) {
+  const DnnBox whole{100, 100, 60, 200, 0.75}, band{112, 105, 40, 90, 0.83};
+  const DnnBox off_axis{140, 200, 20, 60, 0.6};   // centre x 150, the whole cone's 130: 20 > 0.25 x 60
+  const DnnBox partly{120, 40, 20, 100, 0.5};     // 40 % of its area inside
+  const DnnBox elsewhere{400, 100, 30, 90, 0.9};  // another cone
+  const std::vector<DnnBox> merged = MergeContainedBoxes({band, whole, off_axis, partly, elsewhere}, 0.7, 0.25);
+  ASSERT_EQ(merged.size(), 4u);
+  EXPECT_DOUBLE_EQ(merged[0].score, 0.9);  // score order
+  EXPECT_DOUBLE_EQ(merged[1].score, 0.83);
+  EXPECT_DOUBLE_EQ(merged[1].x, whole.x);
+  EXPECT_DOUBLE_EQ(merged[1].y, whole.y);
+  EXPECT_DOUBLE_EQ(merged[1].w, whole.w);
+  EXPECT_DOUBLE_EQ(merged[1].h, whole.h);
+  EXPECT_DOUBLE_EQ(merged[2].score, 0.6);
+  EXPECT_DOUBLE_EQ(merged[3].score, 0.5);
+  // The band box would pass NMS (IoU 0.3 with the whole cone): the containment rule is what merges it.
+  EXPECT_LT(BoxIou(band, whole), 0.5);
+  EXPECT_EQ(SuppressOverlaps({band, whole}, 0.5).size(), 2u);
+  // A looser axis keeps fewer; contain_frac above 1 merges nothing.
+  EXPECT_EQ(MergeContainedBoxes({band, whole, off_axis, partly, elsewhere}, 0.7, 0.5).size(), 3u);
+  EXPECT_EQ(MergeContainedBoxes({band, whole, off_axis, partly, elsewhere}, 1.01, 0.25).size(), 5u);
+  DnnDetectorConfig c;
+  c.model_file = "x.onnx";
+  c.contain_frac = 0.0;
+  EXPECT_NE(c.Validate().find("dnn_contain_frac"), std::string::npos);
+}
+
 // ---- the committed model on the development photos, through photos.yaml as detect_cones reads it
 
 std::string TraconDir() {

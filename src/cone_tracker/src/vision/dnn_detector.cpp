@@ -13,6 +13,8 @@ std::string DnnDetectorConfig::Validate() const {
   if (model_file.empty()) return "dnn_model must name an ONNX file";
   if (!(score_min > 0.0 && score_min < 1.0)) return "dnn_score_min must be in (0, 1)";
   if (!(nms_iou > 0.0 && nms_iou <= 1.0)) return "dnn_nms_iou must be in (0, 1]";
+  if (!(contain_frac > 0.0)) return "dnn_contain_frac must be > 0";
+  if (!(contain_axis_frac >= 0.0)) return "dnn_contain_axis_frac must be >= 0";
   return "";
 }
 
@@ -62,8 +64,9 @@ std::vector<DnnBox> DnnDetector::Detect(const cv::Mat& bgr) {
   cv::resize(bgr, input(cv::Rect(0, 0, w, h)), cv::Size(w, h), 0, 0, scale < 1.0 ? cv::INTER_AREA : cv::INTER_LINEAR);
   net_.setInput(cv::dnn::blobFromImage(input, 1.0 / 255.0, cv::Size(), cv::Scalar(), /*swapRB=*/true));
   const cv::Mat out = net_.forward();
-  return DecodeDnnHeads(out.ptr<float>(), out.size[2], out.size[3], scale, bgr.cols, bgr.rows, config_.score_min,
-                        config_.nms_iou);
+  return MergeContainedBoxes(DecodeDnnHeads(out.ptr<float>(), out.size[2], out.size[3], scale, bgr.cols, bgr.rows,
+                                            config_.score_min, config_.nms_iou),
+                             config_.contain_frac, config_.contain_axis_frac);
 }
 
 std::vector<DnnBox> DecodeDnnHeads(const float* heads, int grid_h, int grid_w, double scale, int image_w, int image_h,
@@ -101,6 +104,26 @@ double BoxIou(const DnnBox& a, const DnnBox& b) {
   const double iy = std::max(0.0, std::min(a.y + a.h, b.y + b.h) - std::max(a.y, b.y));
   const double inter = ix * iy, uni = a.w * a.h + b.w * b.h - inter;
   return uni > 0 ? inter / uni : 0.0;
+}
+
+std::vector<DnnBox> MergeContainedBoxes(std::vector<DnnBox> boxes, double contain_frac, double contain_axis_frac) {
+  const auto area = [](const DnnBox& b) { return b.w * b.h; };
+  std::stable_sort(boxes.begin(), boxes.end(), [&](const DnnBox& a, const DnnBox& b) { return area(a) > area(b); });
+  std::vector<DnnBox> kept;  // larger first: the first container found is the largest
+  for (const DnnBox& b : boxes) {
+    const auto container = std::find_if(kept.begin(), kept.end(), [&](const DnnBox& k) {
+      const double ix = std::max(0.0, std::min(b.x + b.w, k.x + k.w) - std::max(b.x, k.x));
+      const double iy = std::max(0.0, std::min(b.y + b.h, k.y + k.h) - std::max(b.y, k.y));
+      const double off_axis = std::abs((b.x + b.w / 2) - (k.x + k.w / 2));
+      return area(b) > 0 && ix * iy >= contain_frac * area(b) && off_axis <= contain_axis_frac * k.w;
+    });
+    if (container == kept.end())
+      kept.push_back(b);
+    else
+      container->score = std::max(container->score, b.score);
+  }
+  std::stable_sort(kept.begin(), kept.end(), [](const DnnBox& a, const DnnBox& b) { return a.score > b.score; });
+  return kept;
 }
 
 std::vector<DnnBox> SuppressOverlaps(std::vector<DnnBox> boxes, double nms_iou) {
