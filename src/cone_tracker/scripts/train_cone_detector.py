@@ -241,7 +241,7 @@ def decode(out, score_min, nms_iou):
     return merge_contained(kept)
 
 
-def merge_contained(dets, contain_frac=0.7, axis_frac=0.25):
+def merge_contained(dets, contain_frac=0.7, axis_frac=0.1):
     """A box part of a larger box's cone is merged into it (dnn_detector.cpp's MergeContainedBoxes)."""
     area = lambda d: (d[2] - d[0]) * (d[3] - d[1])
     kept = []

@@ -111,7 +111,7 @@ TEST(DnnDetector, MergesABoxThatIsPartOfALargerConesBox) {
   const DnnBox off_axis{140, 200, 20, 60, 0.6};   // centre x 150, the whole cone's 130: 20 > 0.25 x 60
   const DnnBox partly{120, 40, 20, 100, 0.5};     // 40 % of its area inside
   const DnnBox elsewhere{400, 100, 30, 90, 0.9};  // another cone
-  const std::vector<DnnBox> merged = MergeContainedBoxes({band, whole, off_axis, partly, elsewhere}, 0.7, 0.25);
+  const std::vector<DnnBox> merged = MergeContainedBoxes({band, whole, off_axis, partly, elsewhere}, 0.7, 0.1);
   ASSERT_EQ(merged.size(), 4u);
   EXPECT_DOUBLE_EQ(merged[0].score, 0.9);  // score order
   EXPECT_DOUBLE_EQ(merged[1].score, 0.83);
@@ -126,11 +126,14 @@ TEST(DnnDetector, MergesABoxThatIsPartOfALargerConesBox) {
   EXPECT_EQ(SuppressOverlaps({band, whole}, 0.5).size(), 2u);
   // A looser axis keeps fewer; contain_frac above 1 merges nothing.
   EXPECT_EQ(MergeContainedBoxes({band, whole, off_axis, partly, elsewhere}, 0.7, 0.5).size(), 3u);
-  EXPECT_EQ(MergeContainedBoxes({band, whole, off_axis, partly, elsewhere}, 1.01, 0.25).size(), 5u);
+  EXPECT_EQ(MergeContainedBoxes({band, whole, off_axis, partly, elsewhere}, 1.01, 0.1).size(), 5u);
+  // The defaults are these (chosen on the development photos' training split, README).
+  EXPECT_DOUBLE_EQ(DnnDetectorConfig().contain_frac, 0.7);
+  EXPECT_DOUBLE_EQ(DnnDetectorConfig().contain_axis_frac, 0.1);
   DnnDetectorConfig c;
   c.model_file = "x.onnx";
   c.contain_frac = 0.0;
-  EXPECT_NE(c.Validate().find("dnn_contain_frac"), std::string::npos);
+  EXPECT_NE(c.Validate().find("contain_frac must be > 0"), std::string::npos);
 }
 
 // ---- the committed model on the development photos, through photos.yaml as detect_cones reads it

@@ -13,8 +13,8 @@ std::string DnnDetectorConfig::Validate() const {
   if (model_file.empty()) return "dnn_model must name an ONNX file";
   if (!(score_min > 0.0 && score_min < 1.0)) return "dnn_score_min must be in (0, 1)";
   if (!(nms_iou > 0.0 && nms_iou <= 1.0)) return "dnn_nms_iou must be in (0, 1]";
-  if (!(contain_frac > 0.0)) return "dnn_contain_frac must be > 0";
-  if (!(contain_axis_frac >= 0.0)) return "dnn_contain_axis_frac must be >= 0";
+  if (!(contain_frac > 0.0)) return "DnnDetectorConfig.contain_frac must be > 0";
+  if (!(contain_axis_frac >= 0.0)) return "DnnDetectorConfig.contain_axis_frac must be >= 0";
   return "";
 }
 
