@@ -136,6 +136,25 @@ TEST(DnnDetector, MergesABoxThatIsPartOfALargerConesBox) {
   EXPECT_NE(c.Validate().find("contain_frac must be > 0"), std::string::npos);
 }
 
+// Two views' boxes: a cone seen in both (mean box, mean score), one seen only in the image (half its
+// score: below 0.4, kept at 0.2), one only in the mirror image.
+TEST(DnnDetector, FusesTheImageAndItsMirrorImage) {
+  const DnnBox both_a{100, 100, 40, 80, 0.8}, both_b{104, 100, 40, 84, 0.6};
+  const DnnBox image_only{300, 100, 20, 40, 0.5}, mirror_only{500, 50, 30, 60, 0.9};
+  std::vector<DnnBox> fused = FuseMirroredViews({both_a, image_only}, {mirror_only, both_b}, 0.4);
+  ASSERT_EQ(fused.size(), 2u);
+  EXPECT_DOUBLE_EQ(fused[0].score, 0.7);
+  EXPECT_DOUBLE_EQ(fused[0].x, 102);
+  EXPECT_DOUBLE_EQ(fused[0].w, 40);
+  EXPECT_DOUBLE_EQ(fused[0].h, 82);
+  EXPECT_DOUBLE_EQ(fused[1].score, 0.45);
+  EXPECT_DOUBLE_EQ(fused[1].x, 500);
+  fused = FuseMirroredViews({both_a, image_only}, {mirror_only, both_b}, 0.2);
+  ASSERT_EQ(fused.size(), 3u);
+  EXPECT_DOUBLE_EQ(fused[2].score, 0.25);
+  EXPECT_TRUE(FuseMirroredViews({}, {}, 0.1).empty());
+}
+
 // ---- the committed model on the development photos, through photos.yaml as detect_cones reads it
 
 std::string TraconDir() {
@@ -162,6 +181,28 @@ double Iou(const Box& a, const Box& b) { return BoxIou({a.x, a.y, a.w, a.h, 0}, 
 // photos (README); the bounds sit a little below, so a worse model or a broken pre/post-processing
 // fails.
 constexpr double kMinPrecision = 0.50, kMinRecall = 0.42;
+
+// The committed model on a photo and on its mirror image: the same cones, mirrored (the mirror
+// view's boxes are mapped back into the image correctly, and the fusion treats both views alike).
+TEST(DnnDetector, MirrorImageGivesMirroredBoxes) {
+  const std::string dir = TraconDir();
+  if (dir.empty()) GTEST_SKIP() << "../shared/data/images/tracon_train not found: real-photo test skipped";
+  const cv::Mat bgr = cv::imread(dir + "/images/cone (1).jpg", cv::IMREAD_COLOR);
+  ASSERT_FALSE(bgr.empty());
+  cv::Mat mirrored;
+  cv::flip(bgr, mirrored, 1);
+  DnnDetectorConfig c;
+  c.model_file = DefaultDnnModelFile();
+  DnnDetector detector(c);
+  const std::vector<DnnBox> boxes = detector.Detect(bgr), back = detector.Detect(mirrored);
+  ASSERT_FALSE(boxes.empty());
+  ASSERT_EQ(boxes.size(), back.size());
+  for (const DnnBox& b : boxes) {
+    double best = 0.0;
+    for (const DnnBox& m : back) best = std::max(best, BoxIou(b, {bgr.cols - m.x - m.w, m.y, m.w, m.h, m.score}));
+    EXPECT_GT(best, 0.9) << b.x << " " << b.y << " " << b.w << " " << b.h;
+  }
+}
 
 TEST(DnnDetector, FindsTheConesOfTheDevelopmentPhotos) {
   const std::string dir = TraconDir();
