@@ -177,10 +177,10 @@ std::vector<Box> Labels(const std::string& file, int width, int height) {
 
 double Iou(const Box& a, const Box& b) { return BoxIou({a.x, a.y, a.w, a.h, 0}, {b.x, b.y, b.w, b.h, 0}); }
 
-// The committed model with photos.yaml measures precision 0.556 and recall 0.473 on all 399 development
-// photos (README); the bounds sit a little below, so a worse model or a broken pre/post-processing
-// fails.
-constexpr double kMinPrecision = 0.50, kMinRecall = 0.42;
+// The committed model with photos.yaml measures precision 0.836 and recall 0.822 on all 399 development
+// photos (README); the bounds are the goal for them, 0.8 each, so a worse model or a broken
+// pre/post-processing (the mirror-image fusion, the containment merge) fails.
+constexpr double kMinPrecision = 0.80, kMinRecall = 0.80;
 
 // The committed model on a photo and on its mirror image: the same cones, mirrored (the mirror
 // view's boxes are mapped back into the image correctly, and the fusion treats both views alike).
@@ -254,7 +254,7 @@ TEST(DnnDetector, FindsTheConesOfTheDevelopmentPhotos) {
   const double precision = tp / std::max(1.0, double(tp + fp)), recall = tp / std::max(1.0, double(tp + fn));
   std::printf("%zu photos: TP %d FP %d FN %d precision %.3f recall %.3f (%d cones with the box's points)\n",
               names.size(), tp, fp, fn, precision, recall, box_points);
-  // A little below what the committed model measures on them (README, "Learned detector for photos").
+  // The goal, a little below what the committed model measures (README, "Learned detector for photos").
   EXPECT_GE(precision, kMinPrecision);
   EXPECT_GE(recall, kMinRecall);
 }
