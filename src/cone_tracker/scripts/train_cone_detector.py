@@ -2,7 +2,7 @@
 """Trains cone_tracker's small cone detector for photographs and exports it to ONNX.
 
   /usr/bin/python3 train_cone_detector.py --data /work/shared/data/images/tracon_train \
-      --out ../models/cone_detector.onnx [--minutes 30] [--all]
+      --out ../models/cone_detector.onnx [--minutes 30 | --steps N] [--all] [--resume OLD.pt --lr 1e-3]
 
 Data: YOLO-labelled photos (DATA/images/*.jpg, DATA/labels/*.txt, `class cx cy w h` normalised,
 one box per cone); the TraCon train split (README, "Learned detector for photos"). Nothing is
@@ -224,7 +224,7 @@ def to_tensor(bgr_batch):
 
 
 def decode(out, score_min, nms_iou):
-    """out: 5 x g x g numpy -> list of (x0, y0, x1, y1, score) in input pixels; as dnn_detector.cpp."""
+    """out: 5 x g x g numpy -> list of (x0, y0, x1, y1, score) in input pixels; as DecodeDnnHeads."""
     heat = out[0]
     pooled = F.max_pool2d(torch.from_numpy(heat)[None, None], 3, 1, 1)[0, 0].numpy()
     ys, xs = np.nonzero((heat >= pooled) & (heat >= score_min))
@@ -233,12 +233,52 @@ def decode(out, score_min, nms_iou):
         w, h = STRIDE * math.exp(out[1, y, x]), STRIDE * math.exp(out[2, y, x])
         cx, cy = STRIDE * (x + out[3, y, x]), STRIDE * (y + out[4, y, x])
         dets.append((cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2, float(heat[y, x])))
-    dets.sort(key=lambda d: -d[4])
+    return nms(dets, nms_iou)
+
+
+def nms(dets, nms_iou):
     kept = []
-    for d in dets:
+    for d in sorted(dets, key=lambda d: -d[4]):
         if all(iou(d, k) <= nms_iou for k in kept):
             kept.append(d)
     return kept
+
+
+def detect(out, out_mirror, width, score_min, nms_iou):
+    """DnnDetector::Detect: the photo's and its mirror image's views fused (FuseMirroredViews), NMS,
+    then the containment merge. width: the photo's width in input pixels (the mirrored part)."""
+    a = decode(out, score_min / 2, nms_iou)
+    b = [(width - d[2], d[1], width - d[0], d[3], d[4]) for d in decode(out_mirror, score_min / 2, nms_iou)]
+    taken, fused = set(), []
+    for d in a:
+        best, bj = 0.5, -1
+        for j, e in enumerate(b):
+            if j not in taken and iou(d, e) >= best:
+                best, bj = iou(d, e), j
+        if bj < 0:
+            fused.append(d[:4] + (d[4] / 2,))
+        else:
+            taken.add(bj)
+            fused.append(tuple((np.array(d) + np.array(b[bj])) / 2))
+    fused += [e[:4] + (e[4] / 2,) for j, e in enumerate(b) if j not in taken]
+    return merge_contained(nms([f for f in fused if f[4] >= score_min], nms_iou))
+
+
+def merge_contained(dets, contain_frac=0.7, axis_frac=0.1):
+    """A box part of a larger box's cone is merged into it (dnn_detector.cpp's MergeContainedBoxes)."""
+    area = lambda d: (d[2] - d[0]) * (d[3] - d[1])
+    kept = []
+    for d in sorted(dets, key=lambda d: -area(d)):
+        for j, k in enumerate(kept):
+            ix = max(0.0, min(d[2], k[2]) - max(d[0], k[0]))
+            iy = max(0.0, min(d[3], k[3]) - max(d[1], k[1]))
+            if area(d) > 0 and ix * iy >= contain_frac * area(d) and \
+                    abs((d[0] + d[2]) / 2 - (k[0] + k[2]) / 2) <= axis_frac * (k[2] - k[0]):
+                kept[j] = k[:4] + (max(k[4], d[4]),)
+                break
+        else:
+            kept.append(d)
+    return sorted(kept, key=lambda d: -d[4])
 
 
 def iou(a, b):
@@ -272,8 +312,13 @@ def predict(model, items, batch=8):
         for i in range(0, len(items), batch):
             chunk = items[i:i + batch]
             lbs = [letterbox(decode_img(it)) for it in chunk]
+            widths = [round(decode_img(it).shape[1] * lb[1]) for it, lb in zip(chunk, lbs)]
+            mirrors = [lb[0].copy() for lb in lbs]
+            for m, lb, w in zip(mirrors, lbs, widths):
+                m[:, :w] = lb[0][:, :w][:, ::-1]
             o = model(to_tensor([l[0] for l in lbs])).numpy()
-            outs += [(o[k], lbs[k][1]) for k in range(len(chunk))]
+            om = model(to_tensor(mirrors)).numpy()
+            outs += [(o[k], om[k], widths[k], lbs[k][1]) for k in range(len(chunk))]
     return outs
 
 
@@ -281,8 +326,8 @@ def evaluate(items, outs, thresholds, nms_iou):
     res = {}
     for t in thresholds:
         tp = fp = fn = 0
-        for it, (o, s) in zip(items, outs):
-            dets = [(d[0] / s, d[1] / s, d[2] / s, d[3] / s, d[4]) for d in decode(o, t, nms_iou)]
+        for it, (o, om, w, s) in zip(items, outs):
+            dets = [(d[0] / s, d[1] / s, d[2] / s, d[3] / s, d[4]) for d in detect(o, om, w, t, nms_iou)]
             a, b, c = match(dets, list(it["boxes"]))
             tp, fp, fn = tp + a, fp + b, fn + c
         res[t] = (tp / max(1, tp + fp), tp / max(1, tp + fn))
@@ -307,9 +352,16 @@ def main():
     ap.add_argument("--all", action="store_true", help="train on every photo (no validation split)")
     ap.add_argument("--cache", default="/tmp/cone_detector_cache.pkl", help="decoded, downsized photos")
     ap.add_argument("--seed", type=int, default=7)
+    ap.add_argument("--threads", type=int, default=1,
+                    help="torch and OpenCV threads (the machine is shared: 1 by default)")
+    ap.add_argument("--resume", default="", help="start from these weights (a .pt this script wrote)")
+    ap.add_argument("--eval-only", action="store_true",
+                    help="only score the --resume weights on the validation photos (with --all: the training ones)")
+    ap.add_argument("--lr", type=float, default=3e-3, help="peak learning rate of the warm-up + cosine schedule")
     args = ap.parse_args()
 
-    torch.set_num_threads(2)
+    torch.set_num_threads(args.threads)
+    cv2.setNumThreads(args.threads)
     torch.manual_seed(args.seed)
     rng = np.random.default_rng(args.seed)
     items = load_dataset(args.data, args.cache)
@@ -320,8 +372,15 @@ def main():
           f"{'no held-out split' if args.all else f'validation {len(val)}'}", flush=True)
 
     model = ConeNet()
+    if args.resume:
+        model.load_state_dict(torch.load(args.resume, map_location="cpu"))
+        print(f"resumed from {args.resume}", flush=True)
     print(f"parameters: {sum(p.numel() for p in model.parameters())}", flush=True)
-    per_epoch, batch, max_lr = 256, 16, 3e-3
+    if args.eval_only:
+        print(f"  {'train' if args.all else 'val'}  "
+              f"{fmt(evaluate(val, predict(model, val), [0.2, 0.25, 0.3, 0.35, 0.4, 0.5], 0.5))}", flush=True)
+        return
+    per_epoch, batch, max_lr = 256, 16, args.lr
     opt = torch.optim.AdamW(model.parameters(), lr=max_lr, weight_decay=5e-4)
     t0 = time.time()
     step, epoch, done = 0, 0, False

@@ -13,9 +13,19 @@
 namespace cone_tracker {
 
 struct DnnDetectorConfig {
-  std::string model_file;        // ONNX file; required
-  double score_min = 0.3;        // a cone-centre peak below this is no detection
-  double nms_iou = 0.5;          // a box overlapping a higher-scored one by more is dropped
+  std::string model_file;  // ONNX file; required
+  double score_min = 0.3;  // a cone-centre peak below this is no detection
+  double nms_iou = 0.5;    // a box overlapping a higher-scored one by more is dropped
+  // A box that is part of a larger one's cone (the network also boxes a striped cone's upper band
+  // beside the whole cone) is merged into the larger box: at least contain_frac of its area lies
+  // inside the larger box and its centre is within contain_axis_frac x the larger box's width of the
+  // larger box's vertical centre line (one cone axis). 1 < contain_frac: no merging. The defaults
+  // were chosen on the development photos' training split (README, "Learned detector for photos").
+  double contain_frac = 0.7;
+  double contain_axis_frac = 0.1;
+  // Also run the network on the mirrored image and average the two views (FuseMirroredViews): twice
+  // the network's time, fewer single-view false boxes (README, "Learned detector for photos").
+  bool flip_average = true;
   std::string Validate() const;  // "" or what is wrong, naming the field
 };
 
@@ -56,6 +66,17 @@ class DnnDetector {
 // of grid_h x grid_w floats.
 std::vector<DnnBox> DecodeDnnHeads(const float* heads, int grid_h, int grid_w, double scale, int image_w, int image_h,
                                    double score_min, double nms_iou);
+// The boxes of the image and of its mirror image (already mirrored back into the image's pixels),
+// each decoded at score_min / 2: a box of one view that overlaps one of the other by IoU >= 0.5
+// (greedy, in score order) becomes their mean box with their mean score; a box seen in one view only
+// keeps half its score (the other view's score taken as 0). Returns the boxes scoring >= score_min,
+// in score order (overlaps not yet suppressed).
+std::vector<DnnBox> FuseMirroredViews(const std::vector<DnnBox>& image_view, const std::vector<DnnBox>& mirror_view,
+                                      double score_min);
+// Merges each box into the largest larger box (by area) that contains it as DnnDetectorConfig's
+// contain_frac and contain_axis_frac say: the larger box stays, with the higher of the two scores.
+// Returns the boxes in score order.
+std::vector<DnnBox> MergeContainedBoxes(std::vector<DnnBox> boxes, double contain_frac, double contain_axis_frac);
 // Greedy non-maximum suppression: sorts by score, drops a box whose IoU with a kept one exceeds nms_iou.
 std::vector<DnnBox> SuppressOverlaps(std::vector<DnnBox> boxes, double nms_iou);
 double BoxIou(const DnnBox& a, const DnnBox& b);
