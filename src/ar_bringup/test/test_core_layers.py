@@ -28,6 +28,7 @@ CORE_FOLDERS = {
     "aravis_camera": ["src/core/", "include/aravis_camera/core/"],
     "ar_overlay": ["src/core/", "include/ar_overlay/core/"],
     "cone_tracker": ["src/pose/", "src/vision/", "include/cone_tracker/pose/", "include/cone_tracker/vision/"],
+    "cone_survey": ["src/*", "include/cone_survey/*"],
     "imu_driver": ["src/core/", "include/imu_driver/core/"],
     "pose_ekf": ["src/core/", "include/pose_ekf/core/"],
     "rig_sim": ["src/core/", "include/rig_sim/*"],
