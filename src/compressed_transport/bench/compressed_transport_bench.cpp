@@ -48,12 +48,8 @@ std::vector<cv::Mat> RenderWalk(double step_s) {
   const rig_sim::SimStream stream(scenario, rig_sim::StreamConfig());
   std::vector<cv::Mat> frames;
   for (double t = 1.0; t < scenario.trajectory.duration_s; t += step_s) {
-    rig_sim::SimEvent ev;
-    ev.kind = rig_sim::EventKind::kImage;
-    ev.stamp_s = t;
-    ev.pose = stream.trajectory().At(t);
     cv::Mat rgb(scenario.camera.model.height_px, scenario.camera.model.width_px, CV_8UC3);
-    stream.RenderFrame(ev, rgb.data);
+    stream.RenderFrame(stream.ImageEventAt(t), rgb.data);
     frames.push_back(rgb);
   }
   return frames;

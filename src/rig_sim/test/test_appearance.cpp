@@ -322,11 +322,7 @@ TEST(Looks, TheStreamBlursFramesAlongTheTrajectory) {
   const SimStream a(blurred, StreamConfig()), b(sharp, StreamConfig());
   double sa = 0, sb = 0;
   for (double t : {14.4, 14.6, 15.2, 15.5}) {
-    SimEvent ev;
-    ev.kind = EventKind::kImage;
-    ev.stamp_s = t;
-    ev.index = 1;
-    ev.pose = a.trajectory().At(t);
+    const SimEvent ev = a.ImageEventAt(t, 1);
     Image ia, ib;
     ia.width = ib.width = blurred.camera.model.width_px;
     ia.height = ib.height = blurred.camera.model.height_px;

@@ -41,6 +41,9 @@ class SimStream {
   // trajectory spread evenly over the exposure, centred on the stamp (motion blur): an odd number,
   // one per ~2 px of image motion, at most blur_samples; one when the image moves < 0.25 px.
   void RenderFrame(const SimEvent& image_event, uint8_t* rgb, int16_t* labels = nullptr) const;
+  // The image event of a frame stamped t_s (scenario time) with its true pose, outside the stream's
+  // order: for RenderFrame on stills and in benchmarks. `index` picks the frame's noise.
+  SimEvent ImageEventAt(double t_s, uint64_t index = 0) const;
   const Scenario& scenario() const { return scenario_; }
   const Trajectory& trajectory() const { return trajectory_; }
   const Renderer& renderer() const { return renderer_; }

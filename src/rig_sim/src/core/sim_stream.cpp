@@ -55,6 +55,15 @@ bool SimStream::Next(SimEvent* e) {
   return true;
 }
 
+SimEvent SimStream::ImageEventAt(double t_s, uint64_t index) const {
+  SimEvent ev;
+  ev.kind = EventKind::kImage;
+  ev.stamp_s = ev.deliver_s = t_s;
+  ev.index = index;
+  ev.pose = trajectory_.At(t_s);
+  return ev;
+}
+
 void SimStream::RenderFrame(const SimEvent& ev, uint8_t* rgb, int16_t* labels) const {
   const AppearanceConfig& a = scenario_.render.appearance;
   if (a.exposure_time_s > 0.0 && a.blur_samples > 1) {  // motion blur: the poses while the shutter is open

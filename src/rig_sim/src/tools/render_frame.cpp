@@ -36,12 +36,8 @@ int Run(int argc, char** argv) {
   }
   rig_sim::ShortenScenario(0.0, argc > 5 ? std::stod(argv[5]) : 1.0, &scenario);
   const rig_sim::SimStream stream(scenario, rig_sim::StreamConfig());
-  rig_sim::SimEvent ev;
-  ev.kind = rig_sim::EventKind::kImage;
-  ev.stamp_s = t;
-  ev.pose = stream.trajectory().At(t);
   cv::Mat rgb(scenario.camera.model.height_px, scenario.camera.model.width_px, CV_8UC3);
-  stream.RenderFrame(ev, rgb.data);
+  stream.RenderFrame(stream.ImageEventAt(t), rgb.data);
   cv::Mat bgr;
   cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
   if (!cv::imwrite(out, bgr)) {
