@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # `make eval-tracking`: the tracking figures by the cones in the true view (ar_bringup.evaluation's
 # view_* figures) on 512x384 rig_sim bags of the handheld and look_away scenarios with the asymmetric
-# layout, replayed through launch/replay.launch. Seeds 3-6 are the held-out ones: nothing was tuned
+# layout, replayed through launch/replay.launch. Seeds 4-6 are the held-out ones: nothing was tuned
 # on them (pose_ekf's README says which seeds the defaults were chosen on).
 # Usage: scripts/eval_tracking.sh [OUT_DIR] [SEED...]   (needs a built, sourced workspace)
 # EVAL_SCENARIOS overrides the scenarios, EVAL_ARGS adds replay.launch arguments (e.g. ekf_config:=...).

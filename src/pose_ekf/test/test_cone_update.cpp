@@ -73,7 +73,7 @@ void ExpectJacobianMatches(const StateVector& x, const pose_ekf::ConeGeometry& c
   }
   // Pixels per unit quaternion / metre are 1e2-1e3: a relative tolerance on the whole matrix.
   EXPECT_LT((H - N).norm(), 1e-6 * N.norm()) << "analytic\n" << H << "\nnumeric\n" << N;
-  EXPECT_GT((H.block<6, 3>(0, pose_ekf::kP)).norm(), 1.0);
+  EXPECT_GT((H.block<pose_ekf::kConeDof, 3>(0, pose_ekf::kP)).norm(), 1.0);
 }
 
 TEST(ConeJacobian, AnalyticMatchesNumericDifferences) {
@@ -185,8 +185,9 @@ TEST(ConeGates, JointCheckDropsConesThatPassAlone) {
   alone.SetConfig(no_joint);
   EXPECT_EQ(alone.UpdateCones(f, &r), UpdateResult::kApplied);
   EXPECT_EQ(r.gated, 0);
-  EXPECT_EQ(r.fused, 3) << "each cone alone passes chi2(6) at 0.9999 (" << ekf.cone_gate_chi2() << ")";
-  std::printf("[ cones ] joint NIS of the three: %.1f against chi2(18) %.1f\n", r.nis, ekf.cone_joint_chi2(3));
+  EXPECT_EQ(r.fused, 3) << "each cone alone passes chi2(4) at 0.9999 (" << ekf.cone_gate_chi2() << ")";
+  std::printf("[ cones ] joint NIS of the three: %.1f against chi2(%d) %.1f\n", r.nis, 3 * pose_ekf::kConeDof,
+              ekf.cone_joint_chi2(3));
   EXPECT_GT(r.nis, ekf.cone_joint_chi2(3));
   EXPECT_EQ(ekf.UpdateCones(f, &r), UpdateResult::kApplied);
   EXPECT_GE(r.joint_dropped, 1);
@@ -408,9 +409,11 @@ TEST(ConeConsistency, AverageNeesInsideTheChiSquareInterval) {
   const Nees three = MonteCarloNees("three cones", [](int, double) { return std::vector<int>{0, 1, 2}; });
   EXPECT_GT(three.mean, three.lo);
   EXPECT_LT(three.mean, three.hi);
-  EXPECT_GE(three.fraction_inside, 0.90);
+  // 92 % of the steps with the mid fused as a third point, 90 % with the peak and base alone (less
+  // information per frame, so the NEES follows the motion more along the sequence).
+  EXPECT_GE(three.fraction_inside, 0.85);
   // Every other frame a single cone (heading then comes from the gyro): the mean holds, the NEES
-  // varies more along the sequence (about 86 % of the steps inside).
+  // varies more along the sequence (about 77 % of the steps inside).
   const Nees alternating = MonteCarloNees("one and three cones alternating", [](int k, double) {
     return k % 2 ? std::vector<int>{0, 1, 2} : std::vector<int>{k % 3};
   });

@@ -54,6 +54,7 @@ TEST(NodeConfig, TheTableHasEveryParameterTheLoaderRead) {
                                        "use_camera",
                                        "use_gyro",
                                        "gyro_is_interval_mean",
+                                       "gyro_is_centred_interval_mean",
                                        "accel_mode",
                                        "quat_integration",
                                        "use_accel",

@@ -93,30 +93,34 @@ bool ProjectCone(const StateVector& x, const ConeGeometry& cone, const PinholeIn
   Eigen::Matrix3d Rt;  // R(q)ᵀ by columns, from the same general form
   for (int i = 0; i < 3; ++i) Rt.col(i) = RotateInverse(q, Eigen::Vector3d::Unit(i));
   if (H) *H = ConeJacobian::Zero(kConeDof, x.size());
-  for (int k = 0; k < kConePoints; ++k) {
+  for (size_t j = 0; j < kConeMeasuredPoints.size(); ++j) {
+    const int k = kConeMeasuredPoints[j], row = 2 * static_cast<int>(j);
     const Eigen::Vector3d d = X_m[k] - p;
     const Eigen::Vector3d Xc = Rt * d;  // the point in {C}
     if (!(Xc.z() >= kConeMinDepthM)) return false;
     const double iz = 1.0 / Xc.z();
-    h->segment<2>(2 * k) << K.fx_px * Xc.x() * iz + K.cx_px, K.fy_px * Xc.y() * iz + K.cy_px;  // pinhole
+    h->segment<2>(row) << K.fx_px * Xc.x() * iz + K.cx_px, K.fy_px * Xc.y() * iz + K.cy_px;  // pinhole
     if (!H) continue;
     Eigen::Matrix<double, 2, 3> dpi;  // ∂(u, v)/∂Xc
     dpi << K.fx_px * iz, 0.0, -K.fx_px * Xc.x() * iz * iz, 0.0, K.fy_px * iz, -K.fy_px * Xc.y() * iz * iz;
-    H->block<2, 4>(2 * k, kQ) = dpi * RotateInverseJacobian(q, d);
-    H->block<2, 3>(2 * k, kP) = dpi * Rt * (dX_dp[k] - Eigen::Matrix3d::Identity());
+    H->block<2, 4>(row, kQ) = dpi * RotateInverseJacobian(q, d);
+    H->block<2, 3>(row, kP) = dpi * Rt * (dX_dp[k] - Eigen::Matrix3d::Identity());
   }
   return true;
 }
 
 ConeMatrix ConeCovariance(const ConeObservation& o) {
   ConeMatrix R = ConeMatrix::Zero();
-  for (int k = 0; k < kConePoints; ++k) R.block<2, 2>(2 * k, 2 * k) = 0.5 * (o.cov_px2[k] + o.cov_px2[k].transpose());
+  for (size_t j = 0; j < kConeMeasuredPoints.size(); ++j) {
+    const Eigen::Matrix2d& c = o.cov_px2[kConeMeasuredPoints[j]];
+    R.block<2, 2>(2 * j, 2 * j) = 0.5 * (c + c.transpose());
+  }
   return R;
 }
 
 ConeVector ConePixels(const ConeObservation& o) {
   ConeVector z;
-  for (int k = 0; k < kConePoints; ++k) z.segment<2>(2 * k) = o.px[k];
+  for (size_t j = 0; j < kConeMeasuredPoints.size(); ++j) z.segment<2>(2 * j) = o.px[kConeMeasuredPoints[j]];
   return z;
 }
 
@@ -134,7 +138,7 @@ double EkfCore::cone_joint_chi2(int cones) const {
 }
 
 // Sequential per cone: with the cones' pixel noise independent (R block-diagonal across cones), the
-// sequential updates equal the joint one for a linear h, each a 6×6 S instead of a 6k×6k one, and
+// sequential updates equal the joint one for a linear h, each a 4×4 S instead of a 4k×4k one, and
 // every cone is linearised at the state the previous cones corrected. The joint NIS of the frame is
 // the sum of the sequential NIS values (p(z1, z2) = p(z1) p(z2 | z1)), so the frame check costs
 // nothing extra; it needs a rollback, hence the copy of the state.
@@ -171,7 +175,7 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out) {
     }
     candidates.push_back(static_cast<int>(i));
   }
-  // 2. The remaining cones in sequence; the frame's joint NIS against chi2(6 k), else drop the
+  // 2. The remaining cones in sequence; the frame's joint NIS against chi2(4 k), else drop the
   // cone that disagreed most with the prior and try again (a wrong association that passed alone).
   UpdateResult result = UpdateResult::kGated;
   while (!candidates.empty()) {

@@ -26,6 +26,9 @@ std::string EkfConfig::Validate() const {
   Check(err, "sigma_accel_m_s2", sigma_accel_m_s2, 0.0, false);
   Check(err, "gravity_m_s2", gravity_m_s2, 0.0, false);
   if (!std::isfinite(accel_gate_m_s2)) err << "accel_gate_m_s2 must be finite; ";
+  if (gyro_is_interval_mean && gyro_is_centred_interval_mean) {
+    err << "gyro_is_interval_mean and gyro_is_centred_interval_mean exclude each other; ";
+  }
   Check(err, "init_sigma_omega_rad_s", init_sigma_omega_rad_s, 0.0, false);
   Check(err, "init_sigma_v_m_s", init_sigma_v_m_s, 0.0, false);
   Check(err, "init_sigma_a_m_s2", init_sigma_a_m_s2, 0.0, false);

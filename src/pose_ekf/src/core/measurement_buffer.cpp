@@ -292,7 +292,14 @@ UpdateResult MeasurementBuffer::Apply(Entry& e, bool count) {
   // camera frames instead of extrapolating the last angular rate (7.3 survey).
   if (!e.is_camera && !config_.use_gyro && config_.accel_mode == AccelMode::kOff) return UpdateResult::kDisabled;
   // The gyro's rate over (previous stamp, e.stamp] drives the prediction over it.
-  const bool gyro_first = !e.is_camera && config_.gyro_is_interval_mean;
+  const bool gyro_centred = !e.is_camera && config_.gyro_is_centred_interval_mean;
+  if (gyro_centred) {
+    // The sample's period starts halfway from the previous sample (gaps over 0.1 s: at its stamp).
+    const double previous = ekf_.state().last_imu_stamp_s;
+    if (previous >= 0.0 && e.stamp_s - previous <= 0.1) ekf_.Predict(0.5 * (previous + e.stamp_s));
+    ekf_.NoteImuStamp(e.stamp_s);
+  }
+  const bool gyro_first = !e.is_camera && (config_.gyro_is_interval_mean || gyro_centred);
   const UpdateResult gyro = gyro_first ? ekf_.UpdateGyro(e.imu) : UpdateResult::kDisabled;
   ekf_.Predict(e.stamp_s);
   auto tally = [&](UpdateResult r, uint64_t* applied) {

@@ -72,6 +72,8 @@ const Table& Params() {
       .Add("use_camera", [](NodeConfig& c) -> bool& { return c.ekf.use_camera; })
       .Add("use_gyro", [](NodeConfig& c) -> bool& { return c.ekf.use_gyro; })
       .Add("gyro_is_interval_mean", [](NodeConfig& c) -> bool& { return c.ekf.gyro_is_interval_mean; })
+      .Add("gyro_is_centred_interval_mean",
+           [](NodeConfig& c) -> bool& { return c.ekf.gyro_is_centred_interval_mean; })
       .AddEnum("accel_mode", [](NodeConfig& c) -> int& { return c.accel_mode; },
                {"off", "orientation", "position_orientation"})  // AccelMode's order
       .AddEnum("quat_integration", [](NodeConfig& c) -> int& { return c.quat_integration; },

@@ -49,15 +49,17 @@ pose_ekf::ConeFrame ObserveCones(double stamp_s, const pose_math::Pose& T,
     for (const Eigen::Vector3d& p : X) in_front &= (pose_math::RotationFromQuat(T.q).transpose() * (p - T.t)).z() > 0.3;
     if (!in_front || !pose_ekf::ProjectCone(x, o.cone, K, &h, nullptr)) continue;
     bool in_image = true;  // the image is 2 cx by 2 cy pixels
-    for (int k = 0; k < pose_ekf::kConePoints; ++k) {
-      in_image &= h[2 * k] >= 0.0 && h[2 * k] <= 2.0 * K.cx_px && h[2 * k + 1] >= 0.0 && h[2 * k + 1] <= 2.0 * K.cy_px;
+    for (int j = 0; j < pose_ekf::kConeDof / 2; ++j) {
+      in_image &= h[2 * j] >= 0.0 && h[2 * j] <= 2.0 * K.cx_px && h[2 * j + 1] >= 0.0 && h[2 * j + 1] <= 2.0 * K.cy_px;
     }
     if (!in_image) continue;
-    for (int k = 0; k < pose_ekf::kConePoints; ++k) {
+    for (size_t j = 0; j < pose_ekf::kConeMeasuredPoints.size(); ++j) {
+      const int k = pose_ekf::kConeMeasuredPoints[j];
       const double du = noise(*rng), dv = noise(*rng);
-      o.px[k] = h.segment<2>(2 * k) + Eigen::Vector2d(du, dv);
-      o.cov_px2[k] = sigma_px * sigma_px * Eigen::Matrix2d::Identity();
+      o.px[k] = h.segment<2>(2 * static_cast<int>(j)) + Eigen::Vector2d(du, dv);
     }
+    o.px[1] = 0.5 * (o.px[0] + o.px[2]);  // the mid, as the tracker sets it
+    for (Eigen::Matrix2d& c : o.cov_px2) c = sigma_px * sigma_px * Eigen::Matrix2d::Identity();
     f.cones.push_back(o);
   }
   return f;

@@ -2,12 +2,16 @@
 // cone_tracker/ConeObservation.msg), fused per cone so that one or two visible cones still correct
 // the filter, where the single-frame pose (5.24) needs three. No ROS types.
 //
-// z = the undistorted pixels of the cone's peak, mid and base (3.1.5.4), 6 rows. The message has
-// fixed-size fields, so all three points are always present: a cone with a non-finite point is
-// refused as a whole (the adapter counts it). h(x) = the pinhole projection (fx, fy, cx, cy) of
-// the cone's model points (rig_model::CorrectedModelPoints: peak, and mid and base on the surface
-// facing the camera, (3.18), the definition the tracker's pose uses) through the camera pose in the
-// state, T_cones_camera = (q, p) (5.18).
+// The message carries the cone's peak, mid and base (3.1.5.4); z = the undistorted pixels of the peak
+// and the base, 4 rows. The tracker's mid is the image midpoint of those two (its segmenter and its
+// DNN detector both set it so), not a measurement of its own: fused as a third independent point it
+// counted the peak and base one and a half times, and its model, the projection of the 3-D midpoint,
+// lies up to 2.5 px off that image midpoint on rig_sim's cones (perspective), a bias the filter
+// believed to 1 px (README, "Status"). The mid is still checked (a malformed message is refused).
+// h(x) = the pinhole projection (fx, fy, cx, cy) of the cone's model points
+// (rig_model::CorrectedModelPoints: the peak, and the base on the surface facing the camera, (3.18),
+// the definition the tracker's pose uses) through the camera pose in the state, T_cones_camera =
+// (q, p) (5.18).
 #pragma once
 
 #include <array>
@@ -38,8 +42,10 @@ struct ConeGeometry {
 // The layout's cones in file order: index = ConeObservation::cone_id.
 std::vector<ConeGeometry> ConeGeometries(const rig_model::Layout& layout);
 
-constexpr int kConePoints = 3;  // peak, mid, base
-constexpr int kConeDof = 2 * kConePoints;
+constexpr int kConePoints = 3;  // peak, mid, base: the message's points (ConeObservation::px)
+// The measured ones: the peak and the base (the mid is their image midpoint), in z, h and R.
+constexpr std::array<int, 2> kConeMeasuredPoints = {0, 2};
+constexpr int kConeDof = 2 * static_cast<int>(kConeMeasuredPoints.size());
 using ConeVector = Eigen::Matrix<double, kConeDof, 1>;
 using ConeMatrix = Eigen::Matrix<double, kConeDof, kConeDof>;
 using ConeJacobian = Eigen::Matrix<double, kConeDof, Eigen::Dynamic, 0, kConeDof, kMaxStates>;
@@ -66,14 +72,14 @@ std::string CheckConeFrame(const ConeFrame& f);
 // Points nearer than this in front of the camera are not projected (the linearisation breaks down).
 constexpr double kConeMinDepthM = 0.05;
 
-// h(x) and H = ∂h/∂x (6 × n, non-zero in the q and p columns only) of one cone. The quaternion
+// h(x) and H = ∂h/∂x (kConeDof × n, non-zero in the q and p columns only) of one cone. The quaternion
 // enters through the general rotation of (2.36), like the accelerometer model, so H is exact for
 // a non-unit q too; the model points move with p (3.16)-(3.18), which H includes. False when a
 // point is not at least kConeMinDepthM in front of the camera.
 bool ProjectCone(const StateVector& x, const ConeGeometry& cone, const PinholeIntrinsics& K, ConeVector* h,
                  ConeJacobian* H);
 
-// R: the three 2x2 covariances on the diagonal.
+// R: the peak's and the base's 2x2 covariances on the diagonal; z: their pixels.
 ConeMatrix ConeCovariance(const ConeObservation& o);
 ConeVector ConePixels(const ConeObservation& o);
 

@@ -51,6 +51,12 @@ struct EkfConfig {
   // one IMU period unless the samples are stamped at the interval's midpoint
   // (test_rig_sim does that). Measured in test_broad and the README.
   bool gyro_is_interval_mean = false;
+  // true: a gyro sample stamped t is the mean rate over the period CENTRED on t (REP-145 midpoint
+  // stamps: rig_sim's messages, imu_driver's stamp_at_interval_midpoint), so it is applied at the
+  // midpoint between the previous IMU stamp and t, after predicting to there with the previous rate.
+  // Either of the two orders above lags or leads the orientation by half a period (5 ms at 100 Hz:
+  // 0.7 deg at 2.4 rad/s on rig_sim's handheld, measured in the README). Excludes gyro_is_interval_mean.
+  bool gyro_is_centred_interval_mean = false;
 
   // Camera gate, beyond the thesis (its vision thread gates in image space,
   // 6.4.1): a camera pose whose squared Mahalanobis distance under the filter's
@@ -69,11 +75,11 @@ struct EkfConfig {
   // observations is fused as with kPose; poses still initialise the filter, and re-initialise it
   // (MeasurementBuffer) after reinit_after_rejections rejected cone frames in a row or when the
   // position sigma exceeds reacquire_sigma_p_m. kPose: observations are ignored.
-  // The default is kPose: on rig_sim replays with the real tracker the per-cone path still diverges
-  // during long one- and two-cone stretches (README, "Per-cone camera updates"), so it is opt-in.
+  // The default is kPose, the thesis's path: kCones is better on rig_sim's 512x384 replays but stays
+  // off after a long outage in the 256x192 look_away system test (README, "Status"), so it is opt-in.
   CameraUpdate camera_update = CameraUpdate::kPose;
-  double cone_gate_probability = 0.9999;   // per cone: yᵀ S⁻¹ y against chi2(6) at this probability; 1 = off
-  double cone_joint_probability = 0.9999;  // per frame: the fused cones' NIS sum against chi2(6 k); 1 = off
+  double cone_gate_probability = 0.9999;   // per cone: yᵀ S⁻¹ y against chi2(4) at this probability; 1 = off
+  double cone_joint_probability = 0.9999;  // per frame: the fused cones' NIS sum against chi2(4 k); 1 = off
   double reacquire_sigma_p_m = 0.5;        // largest position sigma before a pose re-initialises; 0 = never
 
   // Options beyond the thesis.

@@ -25,6 +25,7 @@ struct FilterState {
   Eigen::Vector3d omega_at_last_gyro_rad_s = Eigen::Vector3d::Zero();
   double last_gyro_stamp_s = -1.0;  // < 0: none yet
   Eigen::Vector3d alpha_camera_rad_s2 = Eigen::Vector3d::Zero();
+  double last_imu_stamp_s = -1.0;  // the last IMU sample's stamp (gyro_is_centred_interval_mean); < 0: none
 };
 
 class EkfCore {
@@ -75,6 +76,8 @@ class EkfCore {
   double camera_gate_chi2() const { return camera_gate_chi2_; }
   static constexpr int kCameraGateDof = 6;  // 3 rotation + 3 position
 
+  // The stamp of the IMU sample being applied (the measurement buffer, gyro_is_centred_interval_mean).
+  void NoteImuStamp(double stamp_s) { s_.last_imu_stamp_s = stamp_s; }
   const FilterState& state() const { return s_; }
   void Restore(const FilterState& s) { s_ = s; }
 
