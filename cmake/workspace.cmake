@@ -1,21 +1,7 @@
 # Included after every project() of the workspace: the Makefile passes
 # -DCMAKE_PROJECT_INCLUDE=<this file> to catkin_make, so the packages' CMakeLists.txt need no line for it.
-# Two things live here, both for `make test` on CI's 2 cores (keep the whole run well under 15 minutes):
-#   1. build settings that cut the compile time (below, "Build"),
-#   2. how ctest may run the tests two at a time (below, "Tests").
-# Measurements behind both: .ci/README.md.
-
-# ---- Build ----------------------------------------------------------------------------------------
-# Unity builds: each target's sources are compiled a batch at a time as one translation unit, so the
-# heavy headers (Eigen, OpenCV, Ceres, roscpp, gtest) are parsed, and their templates instantiated,
-# once per batch instead of once per file. A file that cannot share a translation unit (two files
-# of one target defining the same name in an anonymous namespace, say) opts out with
-#   set_source_files_properties(<file> PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
-# and a developer who prefers one object per file (faster single-file rebuilds) configures with
-# -DWS_UNITY_BUILD=OFF.
-option(WS_UNITY_BUILD "Compile each target's sources in batches (unity build)" ON)
-set(CMAKE_UNITY_BUILD ${WS_UNITY_BUILD})
-set(CMAKE_UNITY_BUILD_BATCH_SIZE 8)
+# For `make test` on CI's 2 cores (keep the whole run well under 15 minutes): how ctest may run the
+# tests two at a time. Measurements: .ci/README.md (which also says why there is no unity build here yet).
 
 # ---- Tests ----------------------------------------------------------------------------------------
 # `make test` runs the tests with `ctest -j2`. A test that holds a shared resource names it in a
