@@ -5,7 +5,9 @@ ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
 WS := $(ROOT)/catkin_ws
 # catkin needs the system Python (a pyenv python3 without catkin_pkg may shadow it).
 export PATH := /usr/bin:$(PATH)
-CATKIN_CMD := cd $(WS) && catkin_make -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3
+# cmake/workspace.cmake: ctest's test locks and costs for every package (included after each project()).
+CATKIN_CMD := cd $(WS) && catkin_make -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 \
+  -DCMAKE_PROJECT_INCLUDE=$(ROOT)/cmake/workspace.cmake
 CATKIN := $(CATKIN_CMD) -j2
 ENV := source $(WS)/devel/setup.bash
 
@@ -20,15 +22,17 @@ build: deps
 	@$(CATKIN)
 
 # Every gtest and rostest, then one summary line `N passed, N failed`. Test
-# binaries build in parallel; the tests run one at a time, because some share
-# one resource (the loopback GigE camera port, a pseudo-terminal, a master).
+# binaries build in parallel; ctest runs two tests at a time, except that tests sharing
+# one resource (the loopback GigE camera port, a pipeline replayed in real time) hold a
+# RESOURCE_LOCK and run one after the other (cmake/workspace.cmake). Each test has its own
+# master, pty and files.
 test: build
 	@rm -rf $(WS)/build/test_results
 	@$(CATKIN) tests > $(WS)/run_tests.log 2>&1 || \
 	  { grep -E 'error|Error' $(WS)/run_tests.log | head -40; echo "make test: see $(WS)/run_tests.log"; }
-	@$(CATKIN_CMD) -j1 run_tests >> $(WS)/run_tests.log 2>&1 || \
+	@cd $(WS)/build && ctest -j2 -V >> $(WS)/run_tests.log 2>&1 || \
 	  { grep -E 'error|Error' $(WS)/run_tests.log | head -40; echo "make test: see $(WS)/run_tests.log"; }
-	@grep -E '^\[  (FAILED|PASSED) |^\[ROSTEST\]|FAILURE' $(WS)/run_tests.log || true
+	@grep -E '^([0-9]+: )?(\[  (FAILED|PASSED) |\[ROSTEST\]|.*FAILURE)' $(WS)/run_tests.log || true
 	@bash $(ROOT)/scripts/test_summary.sh $(WS)/build/test_results
 
 demo: build

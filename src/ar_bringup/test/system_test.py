@@ -81,8 +81,12 @@ class SystemTest(unittest.TestCase):
         sub = rospy.Subscriber("pose_ekf/pose", PoseWithCovarianceStamped,
                                lambda m: last_ekf.__setitem__(0, max(last_ekf[0], m.header.stamp.to_sec())))
         deadline = time.monotonic() + max_wait_s
+        # Sim time may stop a little short of the bag's end here (a loaded machine drops the last /clock
+        # messages as it drops truth messages; both seen in ctest -j2 runs, which then waited out the
+        # 240 s hang guard): within 0.5 s of it is the end, and the EKF condition below still waits
+        # for the pipeline's output to reach the last truth stamp.
         while not rospy.is_shutdown() and time.monotonic() < deadline:
-            if recorder.count("rig_sim/ground_truth") >= n_truth or rospy.get_time() >= clock_end_s:
+            if recorder.count("rig_sim/ground_truth") >= n_truth or rospy.get_time() >= clock_end_s - 0.5:
                 break
             time.sleep(0.2)
         # The EKF runs on the IMU, which the bag carries to its end; 0.2 s short of it allows for the

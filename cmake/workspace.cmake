@@ -1,0 +1,65 @@
+# Included after every project() of the workspace: the Makefile passes
+# -DCMAKE_PROJECT_INCLUDE=<this file> to catkin_make, so the packages' CMakeLists.txt need no line for it.
+# For `make test` on CI's 2 cores (keep the whole run well under 15 minutes): how ctest may run the
+# tests two at a time. Measurements: .ci/README.md (which also says why there is no unity build here yet).
+
+# ---- Tests ----------------------------------------------------------------------------------------
+# `make test` runs the tests with `ctest -j2`. A test that holds a shared resource names it in a
+# RESOURCE_LOCK, and ctest never runs two tests holding the same lock at once:
+#   gige_loopback  arv-fake-gv-camera on 127.0.0.1, GVCP port 3956 (one camera per address)
+#   realtime       the whole graph replayed or simulated in real time, with rate, latency or accuracy
+#                  assertions that a second pipeline on the same 2 cores would disturb; the other lane
+#                  runs unit tests and small rostests meanwhile. (relaunch_replay and two_hosts replay
+#                  in real time too, but only wait for messages to arrive: no lock.)
+#   RUN_SERIAL     (not a lock: the test runs alone) soak_short, which runs the simulator at twice real
+#                  time and must lose no message: beside a CPU-bound unit test on 2 cores its probe
+#                  dropped 49 of 4480 frames. Alone it lost none in 3 of 4 runs on the shared machine
+#                  (once 244 of 4502 while other engineers' builds ran): it is load-sensitive anyway.
+# COST (about the seconds each takes) makes ctest start the long ones first, so the two lanes end
+# together; ctest has no timing history on a fresh CI machine. Tests match by regular expression on
+# their ctest names (_ctest_<package>_<type>_<name>; rostests of the repository's test/ carry its path).
+# One rule a line: "<regex> <cost s> [<lock>,<lock>...|RUN_SERIAL]"; the first rule that matches applies.
+set(_WS_TEST_RULES
+  "aravis_camera_gtest_aravis_camera_test_fake_camera 30 gige_loopback"
+  "aravis_camera_rostest_test_camera_nodelet 11 gige_loopback,realtime"
+  "ar_bringup_rostest_.*soak_short 90 RUN_SERIAL"
+  "ar_bringup_rostest_replay_handheld 36 realtime"
+  "ar_bringup_rostest_look_away_recovery 26 realtime"
+  "ar_bringup_rostest_.*rig_check_(sim|no_imu|no_camera) 22 realtime"
+  "ar_bringup_rostest_diagnostics_loop 12 realtime"
+  "ar_bringup_rostest_relaunch_replay 11"
+  "ar_bringup_rostest_two_hosts 11"
+  "rig_sim_rostest_test_sim_launch 19 realtime"
+  "cone_tracker_gtest_cone_tracker_dnn_test 50"
+  "ar_demo_rostest_test_demo_report 20"
+  "cone_tracker_gtest_cone_tracker_vision_test 18"
+  "cone_tracker_gtest_cone_tracker_node_test 15"
+  "cone_tracker_rostest_test_nodelet_bad_input 13"
+  "pose_ekf_gtest_pose_ekf_broad_test 10"
+)
+
+function(_ws_apply_test_rules)
+  get_directory_property(tests TESTS)
+  foreach(test IN LISTS tests)
+    foreach(rule IN LISTS _WS_TEST_RULES)
+      string(REGEX MATCH "^([^ ]+) ([0-9]+) ?(.*)$" _ "${rule}")
+      set(regex "${CMAKE_MATCH_1}")
+      set(cost "${CMAKE_MATCH_2}")
+      set(locks "${CMAKE_MATCH_3}")
+      if(test MATCHES "^_ctest_${regex}")
+        set_tests_properties(${test} PROPERTIES COST ${cost})
+        if(locks STREQUAL "RUN_SERIAL")
+          set_tests_properties(${test} PROPERTIES RUN_SERIAL ON)
+        elseif(locks)
+          string(REPLACE "," ";" locks "${locks}")
+          set_tests_properties(${test} PROPERTIES RESOURCE_LOCK "${locks}")
+        endif()
+        break()
+      endif()
+    endforeach()
+  endforeach()
+endfunction()
+
+if(NOT PROJECT_NAME STREQUAL "Project")  # catkin's toplevel project holds no test
+  cmake_language(DEFER CALL _ws_apply_test_rules)
+endif()
