@@ -68,9 +68,9 @@ TEST(Layout, ErrorsNameTheFileLineAndField) {
   EXPECT_NE(typo.find("test.yaml:4: unknown key 'cones[2].hieght_m' (did you mean 'height_m'?)"), std::string::npos)
       << typo;
   EXPECT_NE(ParseError("cones:\n  - {x_m: 1}\n  - {x_m: 2}\n").find("2 cones; 3 to 30"), std::string::npos);
-  std::string nine = "cones:\n";
-  for (int i = 0; i < 9; ++i) nine += "  - {x_m: " + std::to_string(i) + "}\n";
-  EXPECT_NE(ParseError(nine).find("9 cones; the tracker matches at most 8"), std::string::npos);
+  std::string many = "cones:\n";  // the schema's maximum is the tracker's (kMaxTrackedCones)
+  for (int i = 0; i < 31; ++i) many += "  - {x_m: " + std::to_string(i) + "}\n";
+  EXPECT_NE(ParseError(many).find("31 cones; 3 to 30"), std::string::npos) << ParseError(many);
   EXPECT_NE(ParseError("equilateral: {side_m: 1.5, height_m: 1.2}\n").find("equilateral.height_m: 1.2 is outside"),
             std::string::npos);
   EXPECT_NE(ParseError("equilateral: {side_m: 1.5, height_m: 0.05}\n").find("outside [0.1, 0.92]"), std::string::npos);
@@ -100,6 +100,18 @@ TEST(Layout, LimitsAreInclusive) {
   for (int i = 0; i < 8; ++i) eight += "  - {x_m: " + std::to_string(i) + ", y_m: -5.0}\n";
   EXPECT_TRUE(ParseLayout(eight, "t", &cones, &error)) << error;
   EXPECT_EQ(cones.size(), 8u);
+  std::string thirty = "cones:\n";
+  for (int i = 0; i < 30; ++i)
+    thirty += "  - {x_m: " + std::to_string(i % 6) + ", y_m: " + std::to_string(i / 6) + ", height_m: 0.46}\n";
+  EXPECT_TRUE(ParseLayout(thirty, "t", &cones, &error)) << error;
+  EXPECT_EQ(cones.size(), size_t(kMaxTrackedCones));
+}
+
+TEST(Layout, TheSiteLayoutLoads) {  // rig_sim's 14-cone site: refused while the tracker took 8
+  std::vector<ConeModel> cones;
+  std::string error;
+  ASSERT_TRUE(LoadLayoutFile(RIG_MODEL_LAYOUTS_DIR "/site.yaml", &cones, &error)) << error;
+  EXPECT_EQ(cones.size(), 14u);
 }
 
 }  // namespace cone_tracker
