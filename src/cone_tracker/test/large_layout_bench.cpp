@@ -95,6 +95,17 @@ int main() {
     small.frames.push_back(RenderSim(
         three, LookAt(Eigen::Vector3d(3.3 * std::cos(az), 3.3 * std::sin(az), 1.5), Eigen::Vector3d(0, 0, 0.3)), cam));
   }
+  for (size_t i = 0; i < big.frames.size(); ++i) {  // what each frame gives, for the record
+    const SimFrame& f = big.frames[i];
+    Segmenter seg{SegmenterConfig()};
+    const SegmentationResult r =
+        seg.Process({f.rgb.data(), f.camera.width_px, f.camera.height_px, f.camera.width_px * 3, "rgb8"}, f.camera);
+    const ConePoseResult p = EstimateConePose(r.cones, big.models, f.camera, ConePoseConfig(), std::nullopt);
+    std::string ids;
+    for (int c : p.cone_of_detection) ids += " " + std::to_string(c);
+    std::printf("30-cone frame %zu: %zu detections, ids%s, %s, chi2 %.1f (gate %.1f), rms %.2f px\n", i, r.cones.size(),
+                ids.c_str(), p.ok ? "ok" : p.error.c_str(), p.chi2, p.chi2_threshold, p.pnp.reproj_rms_px);
+  }
   const int kIterations = 400;
   RunSet(&big, kIterations);
   RunSet(&small, kIterations);
