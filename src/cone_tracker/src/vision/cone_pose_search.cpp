@@ -66,7 +66,7 @@ Hypothesis MatchAll(const std::vector<ConeDetection>& dets, const std::vector<do
     const Eigen::Vector2d base(cam.fx_px * pb.x() / pb.z() + cam.cx_px, cam.fy_px * pb.y() / pb.z() + cam.cy_px);
     const Eigen::Vector2d peak(cam.fx_px * pp.x() / pp.z() + cam.cx_px, cam.fy_px * pp.y() / pp.z() + cam.cy_px);
     for (size_t d = 0; d < dets.size(); ++d) {
-      const double gate = cfg.match_gate_height_frac * det_height_px[d];
+      const double gate = std::max(cfg.match_gate_height_frac * det_height_px[d], cfg.match_gate_min_rad * cam.fx_px);
       const double e =
           0.5 * ((dets[d].peak_undist_px - peak).squaredNorm() + (dets[d].base_undist_px - base).squaredNorm());
       if (e < gate * gate) pairs.push_back({e, int(d), int(c)});

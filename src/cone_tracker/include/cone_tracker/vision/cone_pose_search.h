@@ -26,6 +26,7 @@ struct ConeSearchConfig {
   double spacing_tol_frac = 0.2;         // a pair fits when its spacing matches within this fraction ...
   double spacing_tol_m = 0.15;           // ... plus this
   double match_gate_height_frac = 0.35;  // a detection matches a projected cone within this fraction of its height
+  double match_gate_min_rad = 0.03;      // ... or within this angle (far cones: the rough pose's angular error)
   double max_axis_off_rad = 0.03;        // an axis this far off the common vertical is left out of it (a distractor)
   // A solved candidate with a larger reprojection RMS (px) ranks below every consistent one.
   double max_consistent_rms_px = 3.0;
