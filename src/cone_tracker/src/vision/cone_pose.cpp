@@ -218,6 +218,8 @@ ConePoseResult EstimateConePose(const std::vector<ConeDetection>& dets, const st
         score += 0.5 * std::abs(dh);  // breaks ties of equal residual only
       }
       if (score < best_score) best_score = score, out.pnp = r, out.cone_of_detection = a;
+      // Searched candidates come most matches first: one that fits every detection well ends the search.
+      if (searched && matched == int(dets.size()) && r.reproj_rms_px <= 1.5 * cfg.sigma_px) break;
     }
   }
   if (!out.pnp.ok) {
