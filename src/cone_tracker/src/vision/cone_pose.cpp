@@ -1,5 +1,7 @@
 #include "cone_tracker/vision/cone_pose.h"
 
+#include "cone_tracker/vision/cone_pose_search.h"
+
 #include <algorithm>
 #include <functional>
 #include <numeric>
@@ -16,6 +18,10 @@ namespace cone_tracker {
 namespace {
 
 using Assignment = std::vector<int>;  // model cone per detection, -1 none
+
+// Up to this many cones and detections every assignment is tried; beyond, the
+// pair-hypothesis search (cone_pose_search.h).
+constexpr size_t kExhaustiveMax = 8;
 
 Eigen::Vector3d CameraInCones(const pose_math::Pose& T_camera_cones) {
   return -(pose_math::RotationFromQuat(T_camera_cones.q).transpose() * T_camera_cones.t);
@@ -171,29 +177,49 @@ ConePoseResult EstimateConePose(const std::vector<ConeDetection>& dets, const st
     out.cone_of_detection = a;
     out.pnp = Solve(dets, cones, a, cam, cfg, T_pred, CameraInCones(*T_pred));
   } else {
-    if (dets.size() > 8) {
-      out.rejected_by = kPoseTooFewCones;
-      out.error = "too many detections to search without a prediction";
-      return out;
-    }
     std::vector<Assignment> all;
-    Assignment cur(dets.size(), -1);
-    std::vector<bool> used(cones.size(), false);
-    EnumerateFull(0, dets.size(), cones.size(), &cur, &used, &all);
+    const ConeSearchConfig search;
+    if (dets.size() <= kExhaustiveMax && cones.size() <= kExhaustiveMax) {
+      Assignment cur(dets.size(), -1);
+      std::vector<bool> used(cones.size(), false);
+      EnumerateFull(0, dets.size(), cones.size(), &cur, &used, &all);
+    } else {
+      all = SearchAssignments(dets, cones, cam, search);  // large layouts: bounded work
+      if (all.empty()) {
+        out.rejected_by = kPoseTooFewCones;
+        out.error = "no 3 detections fit the layout's spacing";
+        return out;
+      }
+    }
     // Most matches first, then the lowest residual; near-ties (symmetric
     // layouts) go to the heading prior when there is one.
     double best_score = INFINITY;
-    for (const Assignment& a : all) {
-      const PnpResult r = Solve(dets, cones, a, cam, cfg, std::nullopt, Eigen::Vector3d::Zero());
+    const bool searched = !(dets.size() <= kExhaustiveMax && cones.size() <= kExhaustiveMax);
+    for (Assignment a : all) {
+      PnpResult r = Solve(dets, cones, a, cam, cfg, std::nullopt, Eigen::Vector3d::Zero());
       if (!r.ok) continue;
+      if (searched) {  // the rough pose's gate may have missed a cone: match again at the solved pose
+        const Assignment again = AssignByPrediction(dets, cones, cam, cfg, r.T_camera_model);
+        const auto n = [](const Assignment& x) {
+          return std::count_if(x.begin(), x.end(), [](int c) { return c >= 0; });
+        };
+        if (n(again) > n(a)) {
+          const PnpResult r2 = Solve(dets, cones, again, cam, cfg, std::nullopt, Eigen::Vector3d::Zero());
+          if (r2.ok) r = r2, a = again;
+        }
+      }
       const int matched = int(std::count_if(a.begin(), a.end(), [](int c) { return c >= 0; }));
       double score = r.reproj_rms_px - 100.0 * matched;
+      // A wrong hypothesis may gather more (distractor) matches than the right one, but not fit them.
+      if (searched && r.reproj_rms_px > std::max(search.max_consistent_rms_px, 3.0 * cfg.sigma_px)) score += 1e4;
       if (std::isfinite(cfg.initial_heading_rad)) {
         const Eigen::Vector3d eye = CameraInCones(r.T_camera_model);
         const double dh = std::remainder(std::atan2(eye.y(), eye.x()) - cfg.initial_heading_rad, 2.0 * M_PI);
         score += 0.5 * std::abs(dh);  // breaks ties of equal residual only
       }
       if (score < best_score) best_score = score, out.pnp = r, out.cone_of_detection = a;
+      // Searched candidates come most matches first: one that fits every detection well ends the search.
+      if (searched && matched == int(dets.size()) && r.reproj_rms_px <= 1.5 * cfg.sigma_px) break;
     }
   }
   if (!out.pnp.ok) {

@@ -12,9 +12,9 @@
 
 namespace cone_tracker {
 
-// The correspondence search without a prediction tries every assignment (cone_pose.cpp), so the
-// tracker takes at most this many of the 3 to 30 cones a layout may have.
-constexpr int kMaxTrackedCones = 8;
+// The layout schema's maximum: the search without a prediction tries every assignment up to 8
+// cones and beyond uses pair hypotheses with bounded work (cone_pose_search.h).
+constexpr int kMaxTrackedCones = rig_model::LayoutLimits::kMaxCones;
 
 // The cones of a layout, in file order (the equilateral cones first).
 std::vector<ConeModel> ConeModels(const rig_model::Layout& layout);

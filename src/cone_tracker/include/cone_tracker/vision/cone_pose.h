@@ -1,6 +1,7 @@
 // From cone detections to a pose (3.1.4, 3.1.6, 6.4): model point correction,
 // correspondence against a predicted pose (or a search over assignments with
-// the linear algorithms when there is none), the single-frame pose through
+// the linear algorithms when there is none; for large layouts a pair-hypothesis
+// search, cone_pose_search.h), the single-frame pose through
 // SolvePnp's `best`, and the outlier gates. ROS-free.
 #pragma once
 

@@ -1,0 +1,128 @@
+// Tracker time per 1024x768 frame (segmentation + correspondence + pose, no
+// prediction: the cold start, the worst case) with a 30-cone layout and 3-5
+// cones in view, against the baseline of the 3-cone layout's frames in the same
+// process; also the pose step alone, cold and with a prediction. Single-threaded.
+// Prints BENCH lines (DESIGN.md).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "cone_tracker/pose/algorithms.h"
+#include "cone_tracker/testing/large_layout.h"
+#include "cone_tracker/testing/vision_frames.h"
+#include "cone_tracker/vision/cone_pose.h"
+#include "cone_tracker/vision/segmenter.h"
+#include "rig_sim/scene.h"
+
+namespace {
+
+using namespace cone_tracker;
+using Clock = std::chrono::steady_clock;
+double Ms(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
+double Median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+struct Set {
+  std::vector<SimFrame> frames;
+  std::vector<ConeModel> models;
+  std::vector<double> frame_ms, pose_cold_ms, pose_pred_ms;
+  int solved = 0, runs = 0;
+};
+
+std::vector<ConeModel> Models(const rig_sim::Scene& scene) {
+  std::vector<ConeModel> m;
+  for (const auto& c : scene.cones) m.push_back({c.base_m, c.height_m, c.tau});
+  return m;
+}
+
+void RunSet(Set* s, int iterations) {
+  Segmenter seg{SegmenterConfig()};
+  for (int i = 0; i < iterations; ++i) {
+    const SimFrame& f = s->frames[size_t(i) % s->frames.size()];
+    const Eigen::Matrix3d R = f.pose.R_cones_camera.transpose();
+    const pose_math::Pose truth = PoseFromRt(R, -R * f.pose.p_camera_in_cones_m);
+    const auto t0 = Clock::now();
+    const SegmentationResult r =
+        seg.Process({f.rgb.data(), f.camera.width_px, f.camera.height_px, f.camera.width_px * 3, "rgb8"}, f.camera);
+    const auto t1 = Clock::now();
+    const ConePoseResult cold = EstimateConePose(r.cones, s->models, f.camera, ConePoseConfig(), std::nullopt);
+    const auto t2 = Clock::now();
+    EstimateConePose(r.cones, s->models, f.camera, ConePoseConfig(), truth);
+    const auto t3 = Clock::now();
+    s->frame_ms.push_back(Ms(t0, t2)), s->pose_cold_ms.push_back(Ms(t1, t2)), s->pose_pred_ms.push_back(Ms(t2, t3));
+    s->solved += cold.ok, ++s->runs;
+  }
+}
+
+}  // namespace
+
+int main() {
+  cv::setNumThreads(1);
+  const CameraModel cam = testing::LargeLayoutCamera();
+  // 30 cones: the scene of the large-layout test, 8 views with 3-5 cones in view.
+  const std::vector<ConeModel> layout = testing::LargeLayout(30, 7);
+  std::string yaml = "cones:\n";
+  for (size_t i = 0; i < layout.size(); ++i)
+    yaml += "  - {x_m: " + std::to_string(layout[i].base_m.x()) + ", y_m: " + std::to_string(layout[i].base_m.y()) +
+            ", height_m: " + std::to_string(layout[i].height_m) + ", style: " + (i % 2 ? "plain" : "road") + "}\n";
+  rig_sim::Scene large;
+  std::string error;
+  if (!rig_sim::ParseSceneYaml(yaml, &large, &error)) {
+    std::fprintf(stderr, "large layout: %s\n", error.c_str());
+    return 1;
+  }
+  Set big, small;
+  big.models = Models(large);
+  std::mt19937 rng(21);
+  for (int i = 0; i < 8; ++i) {
+    const testing::SyntheticView v = testing::RandomView(big.models, cam, 3, 5, 0.0, &rng);
+    big.frames.push_back(RenderSim(large, LookAt(v.eye_m, v.target_m), cam));
+  }
+  // Baseline: the 3-cone default layout, 8 views round it.
+  const rig_sim::Scene three = rig_sim::DefaultScene();
+  small.models = Models(three);
+  for (int i = 0; i < 8; ++i) {
+    const double az = 0.2 + 0.25 * i;
+    small.frames.push_back(RenderSim(
+        three, LookAt(Eigen::Vector3d(3.3 * std::cos(az), 3.3 * std::sin(az), 1.5), Eigen::Vector3d(0, 0, 0.3)), cam));
+  }
+  for (size_t i = 0; i < big.frames.size(); ++i) {  // what each frame gives, for the record
+    const SimFrame& f = big.frames[i];
+    Segmenter seg{SegmenterConfig()};
+    const SegmentationResult r =
+        seg.Process({f.rgb.data(), f.camera.width_px, f.camera.height_px, f.camera.width_px * 3, "rgb8"}, f.camera);
+    const ConePoseResult p = EstimateConePose(r.cones, big.models, f.camera, ConePoseConfig(), std::nullopt);
+    std::string ids;
+    for (int c : p.cone_of_detection) ids += " " + std::to_string(c);
+    std::printf("30-cone frame %zu: %zu detections, ids%s, %s, chi2 %.1f (gate %.1f), rms %.2f px\n", i, r.cones.size(),
+                ids.c_str(), p.ok ? "ok" : p.error.c_str(), p.chi2, p.chi2_threshold, p.pnp.reproj_rms_px);
+  }
+  const int kIterations = 400;
+  RunSet(&big, kIterations);
+  RunSet(&small, kIterations);
+  const double big_ms = Median(big.frame_ms), small_ms = Median(small.frame_ms);
+  std::printf("frames at %dx%d, %d per layout, no prediction (cold start)\n", cam.width_px, cam.height_px, kIterations);
+  std::printf(
+      "30-cone layout: frame median %.3f ms (pose %.3f ms cold, %.3f ms predicted), %d/%d frames pass the gates\n",
+      big_ms, Median(big.pose_cold_ms), Median(big.pose_pred_ms), big.solved, big.runs);
+  std::printf("3-cone layout (baseline): frame median %.3f ms (pose %.3f ms cold, %.3f ms predicted), %d/%d pass\n",
+              small_ms, Median(small.pose_cold_ms), Median(small.pose_pred_ms), small.solved, small.runs);
+  std::printf("ratio 30 / 3 cones: frame %.2f, cold pose %.2f\n", big_ms / small_ms,
+              Median(big.pose_cold_ms) / Median(small.pose_cold_ms));
+  std::printf("BENCH cone_tracker.large_layout_frame_median %.3f ms\n", big_ms);
+  std::printf("BENCH cone_tracker.three_cone_frame_median %.3f ms\n", small_ms);
+  std::printf("BENCH cone_tracker.large_layout_frame_ratio %.3f ratio\n", big_ms / small_ms);
+  std::printf("BENCH cone_tracker.large_layout_pose_cold_median %.3f ms\n", Median(big.pose_cold_ms));
+  std::printf("BENCH cone_tracker.three_cone_pose_cold_median %.3f ms\n", Median(small.pose_cold_ms));
+  std::printf("BENCH cone_tracker.large_layout_pose_predicted_median %.3f ms\n", Median(big.pose_pred_ms));
+  return 0;
+}
