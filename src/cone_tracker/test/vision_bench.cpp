@@ -32,6 +32,26 @@ double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// Wall, CPU and measure-stage times of 400 frames (the frames in turn) through `seg`.
+struct Timings {
+  std::vector<double> total_ms, cpu_ms, measure_ms;
+};
+Timings TimeFrames(cone_tracker::Segmenter* seg, const std::vector<cone_tracker::SimFrame>& frames,
+                   const cone_tracker::CameraModel& cam) {
+  Timings t;
+  for (int i = 0; i < 400; ++i) {
+    const cone_tracker::SimFrame& f = frames[size_t(i) % frames.size()];
+    const double c0 = CpuMs();
+    const auto t0 = Clock::now();
+    const cone_tracker::SegmentationResult r =
+        seg->Process({f.rgb.data(), f.camera.width_px, f.camera.height_px, f.camera.width_px * 3, "rgb8"}, cam);
+    t.total_ms.push_back(Ms(t0, Clock::now()));
+    t.cpu_ms.push_back(CpuMs() - c0);
+    t.measure_ms.push_back(r.measure_ms);
+  }
+  return t;
+}
+
 // Peak and base RMS against the truth over the frames' cones (each truth cone
 // to the detection whose peak is nearest, within 15 px).
 void PrintAccuracy(const char* name, cone_tracker::Segmenter* seg, const std::vector<cone_tracker::SimFrame>& frames,
@@ -127,35 +147,21 @@ int main() {
   SegmenterConfig nb;
   nb.merge_band_gap_frac = 0.0;
   Segmenter nbseg{nb};
-  std::vector<double> nbtotal, nbcpu;
-  for (int i = 0; i < 400; ++i) {
-    const SimFrame& f = frames[size_t(i) % frames.size()];
-    const double c0 = CpuMs();
-    const auto t0 = Clock::now();
-    nbseg.Process({f.rgb.data(), w, h, w * 3, "rgb8"}, cam);
-    nbtotal.push_back(Ms(t0, Clock::now()));
-    nbcpu.push_back(CpuMs() - c0);
-  }
-  std::printf("without band merging: frame median %.3f ms, CPU %.3f ms\n", Median(nbtotal), Median(nbcpu));
-  std::printf("BENCH cone_tracker.frame_median_no_band_merge %.3f ms\n", Median(nbtotal));
-  std::printf("BENCH cone_tracker.frame_cpu_median_no_band_merge %.3f ms\n", Median(nbcpu));
+  const Timings no_band = TimeFrames(&nbseg, frames, cam);
+  std::printf("without band merging: frame median %.3f ms, CPU %.3f ms\n", Median(no_band.total_ms),
+              Median(no_band.cpu_ms));
+  std::printf("BENCH cone_tracker.frame_median_no_band_merge %.3f ms\n", Median(no_band.total_ms));
+  std::printf("BENCH cone_tracker.frame_cpu_median_no_band_merge %.3f ms\n", Median(no_band.cpu_ms));
   // The thesis's template refinement (3.1.5.4) on the same frames, for comparison.
   SegmenterConfig tc;
   tc.peak_refinement = int(PeakRefinement::kTemplates);
   const auto tb0 = Clock::now();
   Segmenter tseg{tc};
   std::printf("template set built at start-up in %.1f ms\n", Ms(tb0, Clock::now()));
-  std::vector<double> tmeasure, ttotal;
-  for (int i = 0; i < 400; ++i) {
-    const SimFrame& f = frames[size_t(i) % frames.size()];
-    const auto t0 = Clock::now();
-    const SegmentationResult r = tseg.Process({f.rgb.data(), w, h, w * 3, "rgb8"}, cam);
-    ttotal.push_back(Ms(t0, Clock::now()));
-    tmeasure.push_back(r.measure_ms);
-  }
+  const Timings templates = TimeFrames(&tseg, frames, cam);
   std::printf("with template refinement: frame median %.3f ms, gates + peak/base (templates) + undistort %.3f ms\n",
-              Median(ttotal), Median(tmeasure));
-  std::printf("BENCH cone_tracker.frame_median_templates %.3f ms\n", Median(ttotal));
+              Median(templates.total_ms), Median(templates.measure_ms));
+  std::printf("BENCH cone_tracker.frame_median_templates %.3f ms\n", Median(templates.total_ms));
   PrintAccuracy("outline", &seg, frames, cam);
   PrintAccuracy("templates", &tseg, frames, cam);
   return 0;
