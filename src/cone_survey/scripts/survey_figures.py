@@ -26,6 +26,10 @@ def devel(tool, package):
                         "lib", package, tool)
 
 
+# The simulated rig's camera-IMU calibration (launch/replay.launch's): rig_sim's bags hold only the truth edge.
+CAMERA_IMU = os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../ar_bringup/config/rig_sim_camera_imu.yaml")
+
+
 def rigid(src, dst):
     """R, t minimising |R src + t - dst| (Kabsch)."""
     ms, md = src.mean(axis=0), dst.mean(axis=0)
@@ -55,7 +59,8 @@ def main():
         subprocess.run([devel("make_bag", "rig_sim"), "--scenario", "survey", "--layout", layout, "--seed", str(seed),
                         "--duration", str(a.duration), "--scale", str(a.scale), "--output", bag],
                        check=True, stdout=subprocess.DEVNULL)
-        p = subprocess.run([devel("survey_layout", "cone_survey"), "--bag", bag, "--inventory", inv, "--output", out],
+        p = subprocess.run([devel("survey_layout", "cone_survey"), "--bag", bag, "--inventory", inv, "--output", out,
+                            "--camera-imu", CAMERA_IMU],
                            capture_output=True, text=True)
         os.remove(bag)
         if p.returncode != 0:

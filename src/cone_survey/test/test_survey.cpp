@@ -51,10 +51,18 @@ void WriteWalk(const rig_sim::Scene& scene, uint64_t seed, double duration_s, co
   ASSERT_TRUE(rig_sim::WriteScenarioBag(s, options, path, &stats, &err)) << err;
 }
 
+// The simulated rig's camera-IMU calibration, as launch/replay.launch passes it: the bag's /tf_static
+// holds only the simulator's truth edge, which the survey must not take for a calibration.
+BagInputOptions WalkOptions() {
+  BagInputOptions o;
+  o.camera_imu_file = RIG_SIM_CAMERA_IMU_FILE;
+  return o;
+}
+
 SurveyInput ReadWalk(const std::string& path) {
   SurveyInput in;
   std::string source, err;
-  EXPECT_TRUE(ReadSurveyBag(path, BagInputOptions(), &in, &source, &err)) << err;
+  EXPECT_TRUE(ReadSurveyBag(path, WalkOptions(), &in, &source, &err)) << err;
   return in;
 }
 
@@ -182,7 +190,14 @@ TEST(SurveyTool, WritesALayoutThatRigModelReadsBack) {
   const std::string inv = TempPath("inv.yaml"), out = TempPath("out.yaml");
   std::ofstream(inv) << InventoryYaml(SharedLayout().cones, 0, 1);
   std::string err;
-  const int status = RunTool("--bag " + SharedBag() + " --inventory " + inv + " --output " + out, &err);
+  // Without a calibration the simulated bag is refused: its /tf_static holds only the truth edge.
+  EXPECT_EQ(RunTool("--bag " + SharedBag() + " --inventory " + inv + " --output " + out, &err), 1);
+  EXPECT_NE(err.find(SharedBag() + ": no camera-IMU rotation: the bag has no /tf_static camera_optical -> imu"),
+            std::string::npos)
+      << err;
+  const int status = RunTool(
+      "--bag " + SharedBag() + " --inventory " + inv + " --output " + out + " --camera-imu " + RIG_SIM_CAMERA_IMU_FILE,
+      &err);
   std::remove(inv.c_str());
   ASSERT_EQ(status, 0) << err;
   const rig_model::Layout layout = rig_model::LoadLayoutFile(out);

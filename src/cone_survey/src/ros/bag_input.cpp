@@ -20,16 +20,17 @@ namespace {
 
 std::string Trim(const std::string& topic) { return !topic.empty() && topic[0] == '/' ? topic.substr(1) : topic; }
 
-// camera -> imu in /tf_static: the parent is the camera_info's frame (or a camera_optical* frame), the
-// child's name begins with "imu".
-bool FindCameraImu(const rosbag::Bag& bag, const std::string& camera_frame, Eigen::Matrix3d* R, std::string* used) {
+// camera -> imu in /tf_static, exactly between the camera_info's frame and the IMU messages' frame (as
+// pose_ekf's replay looks it up): a simulator's truth edge (camera_optical_truth -> imu_truth) is never
+// taken for the rig's calibration.
+bool FindCameraImu(const rosbag::Bag& bag, const std::string& camera_frame, const std::string& imu_frame,
+                   Eigen::Matrix3d* R, std::string* used) {
   rosbag::View view(bag, rosbag::TopicQuery(std::vector<std::string>{"/tf_static", "tf_static"}));
   for (const rosbag::MessageInstance& m : view) {
     const tf2_msgs::TFMessage::ConstPtr tf = m.instantiate<tf2_msgs::TFMessage>();
     if (!tf) continue;
     for (const geometry_msgs::TransformStamped& t : tf->transforms) {
-      const bool camera = t.header.frame_id == camera_frame || t.header.frame_id.rfind("camera_optical", 0) == 0;
-      if (!camera || t.child_frame_id.rfind("imu", 0) != 0) continue;
+      if (t.header.frame_id != camera_frame || t.child_frame_id != imu_frame) continue;
       rig_model::CameraImuExtrinsics e;
       std::string why;
       if (!rig_model::FromTransformStamped(t, &e, &why)) continue;
@@ -85,20 +86,12 @@ bool ReadSurveyBag(const std::string& path, const BagInputOptions& o, SurveyInpu
       *error = path + ": no readable camera_info on " + info;
       return false;
     }
-    std::string used;
-    if (!o.camera_imu_file.empty()) {
-      out->R_camera_imu = rig_model::LoadCameraImuFile(o.camera_imu_file).R_camera_imu();
-      used = o.camera_imu_file;
-    } else if (!FindCameraImu(bag, camera_frame, &out->R_camera_imu, &used)) {
-      *error = path + ": no camera-IMU rotation: the bag has no /tf_static " + camera_frame +
-               " -> imu; give --camera-imu FILE (calibrate_camera_imu's YAML)";
-      return false;
-    }
-    *camera_imu_source = used;
+    std::string imu_frame;
     rosbag::View imu_view(bag, rosbag::TopicQuery(std::vector<std::string>{imu, "/" + imu}));
     for (const rosbag::MessageInstance& m : imu_view) {
       const sensor_msgs::Imu::ConstPtr msg = m.instantiate<sensor_msgs::Imu>();
       if (!msg) continue;
+      if (imu_frame.empty()) imu_frame = msg->header.frame_id;
       ImuReading r;
       r.stamp_s = msg->header.stamp.toSec();
       r.gyro_rad_s = Eigen::Vector3d(msg->angular_velocity.x, msg->angular_velocity.y, msg->angular_velocity.z);
@@ -108,6 +101,17 @@ bool ReadSurveyBag(const std::string& path, const BagInputOptions& o, SurveyInpu
     }
     std::sort(out->imu.begin(), out->imu.end(),
               [](const ImuReading& a, const ImuReading& b) { return a.stamp_s < b.stamp_s; });
+    std::string used;
+    if (!o.camera_imu_file.empty()) {
+      out->R_camera_imu = rig_model::LoadCameraImuFile(o.camera_imu_file).R_camera_imu();
+      used = o.camera_imu_file;
+    } else if (!FindCameraImu(bag, camera_frame, imu_frame, &out->R_camera_imu, &used)) {
+      *error = path + ": no camera-IMU rotation: the bag has no /tf_static " + camera_frame + " -> " +
+               (imu_frame.empty() ? std::string("imu") : imu_frame) +
+               "; give --camera-imu FILE (calibrate_camera_imu's YAML)";
+      return false;
+    }
+    *camera_imu_source = used;
     cone_tracker::Segmenter segmenter(o.segmenter);
     rosbag::View image_view(bag, rosbag::TopicQuery(std::vector<std::string>{image, "/" + image}));
     for (const rosbag::MessageInstance& m : image_view) {
