@@ -116,15 +116,21 @@ TEST(MeasurementBuffer, TimeJumpingBackwardsResetsOnceWithOneWarning) {
   RigSimConfig sim;
   sim.duration_s = 3.0;
   const std::vector<Event> events = GenerateRig(sim);
-  MeasurementBuffer looped{pose_ekf::EkfConfig{}}, fresh{pose_ekf::EkfConfig{}};
-  FeedAll(looped, events);
-  EXPECT_FALSE(looped.TakeResetWarning());
-  FeedAll(looped, events);  // a bag loop: time starts again at 0
-  FeedAll(fresh, events);
-  EXPECT_EQ(looped.counters().resets, 1u);
-  EXPECT_TRUE(looped.TakeResetWarning());
-  EXPECT_FALSE(looped.TakeResetWarning());
-  EXPECT_EQ(MaxDiff(looped, fresh), 0.0);  // state after the reset is built from the new data only
+  // Centred gyro samples keep the last IMU stamp: the reset must forget it too.
+  for (const bool centred : {false, true}) {
+    pose_ekf::EkfConfig config;
+    config.gyro_is_centred_interval_mean = centred;
+    MeasurementBuffer looped{config}, fresh{config};
+    FeedAll(looped, events);
+    EXPECT_FALSE(looped.TakeResetWarning());
+    FeedAll(looped, events);  // a bag loop: time starts again at 0
+    FeedAll(fresh, events);
+    EXPECT_EQ(looped.counters().resets, 1u) << centred;
+    EXPECT_TRUE(looped.TakeResetWarning());
+    EXPECT_FALSE(looped.TakeResetWarning());
+    EXPECT_EQ(looped.filter().state().stamp_s, fresh.filter().state().stamp_s) << centred;
+    EXPECT_EQ(MaxDiff(looped, fresh), 0.0) << centred;  // state after the reset is built from the new data only
+  }
 }
 
 TEST(MeasurementBuffer, ImuBeforeTheFirstCameraWaits) {

@@ -80,7 +80,7 @@ bool EkfCore::Initialize(const CameraMeasurement& m) {
   has_accel_bias_ = config_.estimate_accel_bias;
   s_.stamp_s = m.stamp_s;
   s_.x = StateVector::Zero(n);
-  s_.last_gyro_stamp_s = -1.0;
+  s_.last_gyro_stamp_s = s_.last_imu_stamp_s = -1.0;
   s_.alpha_camera_rad_s2.setZero();
   s_.x.segment<4>(kQ) = m.T_cones_camera.q.normalized();
   s_.x.segment<3>(kP) = m.T_cones_camera.t;
@@ -118,7 +118,7 @@ bool EkfCore::InitializeFromGravity(double stamp_s, const Eigen::Vector3d& f) {
   has_accel_bias_ = config_.estimate_accel_bias;
   s_.stamp_s = stamp_s;
   s_.x = StateVector::Zero(n);
-  s_.last_gyro_stamp_s = -1.0;
+  s_.last_gyro_stamp_s = s_.last_imu_stamp_s = -1.0;
   s_.alpha_camera_rad_s2.setZero();
   s_.x.segment<4>(kQ) = q;
   s_.P = StateMatrix::Zero(n, n);

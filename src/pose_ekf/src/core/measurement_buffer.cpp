@@ -296,7 +296,8 @@ UpdateResult MeasurementBuffer::Apply(Entry& e, bool count) {
   if (gyro_centred) {
     // The sample's period starts halfway from the previous sample (gaps over 0.1 s: at its stamp).
     const double previous = ekf_.state().last_imu_stamp_s;
-    if (previous >= 0.0 && e.stamp_s - previous <= 0.1) ekf_.Predict(0.5 * (previous + e.stamp_s));
+    if (previous >= 0.0 && e.stamp_s > previous && e.stamp_s - previous <= 0.1)
+      ekf_.Predict(0.5 * (previous + e.stamp_s));
     ekf_.NoteImuStamp(e.stamp_s);
   }
   const bool gyro_first = !e.is_camera && (config_.gyro_is_interval_mean || gyro_centred);
