@@ -311,8 +311,9 @@ def predict(model, items, batch=8):
     with torch.no_grad():
         for i in range(0, len(items), batch):
             chunk = items[i:i + batch]
-            lbs = [letterbox(decode_img(it)) for it in chunk]
-            widths = [round(decode_img(it).shape[1] * lb[1]) for it, lb in zip(chunk, lbs)]
+            imgs = [decode_img(it) for it in chunk]
+            lbs = [letterbox(img) for img in imgs]
+            widths = [round(img.shape[1] * lb[1]) for img, lb in zip(imgs, lbs)]
             mirrors = [lb[0].copy() for lb in lbs]
             for m, lb, w in zip(mirrors, lbs, widths):
                 m[:, :w] = lb[0][:, :w][:, ::-1]
