@@ -38,12 +38,6 @@ struct Set {
   int solved = 0, runs = 0;
 };
 
-std::vector<ConeModel> Models(const rig_sim::Scene& scene) {
-  std::vector<ConeModel> m;
-  for (const auto& c : scene.cones) m.push_back({c.base_m, c.height_m, c.tau});
-  return m;
-}
-
 void RunSet(Set* s, int iterations) {
   Segmenter seg{SegmenterConfig()};
   for (int i = 0; i < iterations; ++i) {
@@ -70,18 +64,9 @@ int main() {
   const CameraModel cam = testing::LargeLayoutCamera();
   // 30 cones: the scene of the large-layout test, 8 views with 3-5 cones in view.
   const std::vector<ConeModel> layout = testing::LargeLayout(30, 7);
-  std::string yaml = "cones:\n";
-  for (size_t i = 0; i < layout.size(); ++i)
-    yaml += "  - {x_m: " + std::to_string(layout[i].base_m.x()) + ", y_m: " + std::to_string(layout[i].base_m.y()) +
-            ", height_m: " + std::to_string(layout[i].height_m) + ", style: " + (i % 2 ? "plain" : "road") + "}\n";
-  rig_sim::Scene large;
-  std::string error;
-  if (!rig_sim::ParseSceneYaml(yaml, &large, &error)) {
-    std::fprintf(stderr, "large layout: %s\n", error.c_str());
-    return 1;
-  }
+  const rig_sim::Scene large = testing::LargeLayoutScene(layout);
   Set big, small;
-  big.models = Models(large);
+  big.models = ConeModels(large);
   std::mt19937 rng(21);
   for (int i = 0; i < 8; ++i) {
     const testing::SyntheticView v = testing::RandomView(big.models, cam, 3, 5, 0.0, &rng);
@@ -89,7 +74,7 @@ int main() {
   }
   // Baseline: the 3-cone default layout, 8 views round it.
   const rig_sim::Scene three = rig_sim::DefaultScene();
-  small.models = Models(three);
+  small.models = ConeModels(three);
   for (int i = 0; i < 8; ++i) {
     const double az = 0.2 + 0.25 * i;
     small.frames.push_back(RenderSim(

@@ -128,16 +128,8 @@ TEST(LargeLayout, AssociationConsidersOnlyTheConesInView) {
 // Rendered frames of a 30-cone scene through the segmenter: ids against the
 // renderer's truth (the nearest projected peak and base).
 TEST(LargeLayout, ColdStartOnRenderedFrames) {
-  const std::vector<ConeModel> cones = testing::LargeLayout(30, 7);
-  std::string yaml = "cones:\n";
-  for (size_t i = 0; i < cones.size(); ++i)
-    yaml += "  - {x_m: " + std::to_string(cones[i].base_m.x()) + ", y_m: " + std::to_string(cones[i].base_m.y()) +
-            ", height_m: " + std::to_string(cones[i].height_m) + ", style: " + (i % 2 ? "plain" : "road") + "}\n";
-  rig_sim::Scene scene;
-  std::string error;
-  ASSERT_TRUE(rig_sim::ParseSceneYaml(yaml, &scene, &error)) << error;
-  std::vector<ConeModel> models;
-  for (const auto& c : scene.cones) models.push_back({c.base_m, c.height_m, c.tau});
+  const rig_sim::Scene scene = testing::LargeLayoutScene(testing::LargeLayout(30, 7));
+  const std::vector<ConeModel> models = ConeModels(scene);
   const CameraModel cam = testing::LargeLayoutCamera();
   std::mt19937 rng(21);
   Segmenter seg{SegmenterConfig()};

@@ -27,18 +27,6 @@ bool Load(const std::function<rig_model::Layout()>& read, const std::string& sou
 
 }  // namespace
 
-std::vector<ConeModel> ConeModels(const rig_model::Layout& layout) {
-  std::vector<ConeModel> cones;
-  for (const rig_model::ConeSpec& spec : layout.cones) {
-    ConeModel c;
-    c.base_m = spec.base_m;
-    c.height_m = spec.height_m;
-    c.tau = spec.tau;
-    cones.push_back(c);
-  }
-  return cones;
-}
-
 bool ParseLayout(const std::string& text, const std::string& source, std::vector<ConeModel>* cones,
                  std::string* error) {
   return Load([&] { return rig_model::ParseLayout(text, source); }, source, cones, error);

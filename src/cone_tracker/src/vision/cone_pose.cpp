@@ -117,6 +117,12 @@ PnpResult Solve(const std::vector<ConeDetection>& dets, const std::vector<ConeMo
 
 }  // namespace
 
+std::vector<ConeModel> ConeModels(const rig_model::Layout& layout) {
+  std::vector<ConeModel> cones;
+  for (const rig_model::ConeSpec& spec : layout.cones) cones.push_back({spec.base_m, spec.height_m, spec.tau});
+  return cones;
+}
+
 std::array<Eigen::Vector3d, 3> CorrectedModelPoints(const ConeModel& cone, const Eigen::Vector3d& eye) {
   return rig_model::CorrectedModelPoints(cone.base_m, cone.height_m, cone.tau, eye);  // (3.18), shared with pose_ekf
 }

@@ -28,6 +28,14 @@ std::vector<ConeModel> LargeLayout(int n, unsigned seed) {
   return cones;
 }
 
+rig_sim::Scene LargeLayoutScene(const std::vector<ConeModel>& cones) {
+  rig_sim::Scene scene;
+  for (size_t i = 0; i < cones.size(); ++i)
+    scene.cones.push_back(rig_model::MakeCone(cones[i].base_m, cones[i].height_m,
+                                              i % 2 ? rig_model::ConeStyle::kPlain : rig_model::ConeStyle::kRoad));
+  return scene;
+}
+
 CameraModel LargeLayoutCamera() {
   CameraModel cam;
   cam.width_px = 1024, cam.height_px = 768;

@@ -16,9 +16,6 @@ namespace cone_tracker {
 // cones and beyond uses pair hypotheses with bounded work (cone_pose_search.h).
 constexpr int kMaxTrackedCones = rig_model::LayoutLimits::kMaxCones;
 
-// The cones of a layout, in file order (the equilateral cones first).
-std::vector<ConeModel> ConeModels(const rig_model::Layout& layout);
-
 // Returns false with rig_model's message (file, line, field) or the tracker's limit; *cones
 // untouched then.
 bool LoadLayoutFile(const std::string& path, std::vector<ConeModel>* cones, std::string* error);

@@ -16,6 +16,7 @@
 
 #include "cone_tracker/pose/pnp.h"
 #include "cone_tracker/vision/segmenter.h"
+#include "rig_model/layout.h"
 
 namespace cone_tracker {
 
@@ -24,6 +25,9 @@ struct ConeModel {
   double height_m = 0.71;
   double tau = 1.0 / 7.0;  // radius / height (3.1.4)
 };
+
+// The cones of a layout (rig_model's, or rig_sim's scene), in file order (the equilateral cones first).
+std::vector<ConeModel> ConeModels(const rig_model::Layout& layout);
 
 // Peak, mid and base model points (3.12) moved to the cone's surface on the
 // side facing the centre of projection (3.1.4): the silhouette's mid and base

@@ -9,12 +9,16 @@
 #include <Eigen/Core>
 
 #include "cone_tracker/vision/cone_pose.h"
+#include "rig_sim/scene.h"
 
 namespace cone_tracker {
 namespace testing {
 
 // n cones, 3.5 m grid jittered by up to 1 m, heights 0.30/0.46/0.71/0.91 m, base centroid at the origin.
 std::vector<ConeModel> LargeLayout(int n, unsigned seed);
+// The scene of those cones for rig_sim's renderer: road cones and plain ones in turn (the style sets
+// the collars; ConeModels(scene) gives the models the renderer draws).
+rig_sim::Scene LargeLayoutScene(const std::vector<ConeModel>& cones);
 // 1024x768 pinhole, 60 degrees across, no distortion.
 CameraModel LargeLayoutCamera();
 
