@@ -8,14 +8,10 @@
 #include <Eigen/Geometry>
 #include <Eigen/SparseCholesky>
 
+#include "pose_math/quaternion.h"
+
 namespace cone_survey {
 namespace {
-
-Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d S;
-  S << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return S;
-}
 
 // A rotation taking `up` (camera frame) to +z, with the camera's forward axis toward +x.
 Eigen::Matrix3d LevelRotation(const Eigen::Vector3d& up) {
@@ -93,7 +89,7 @@ bool SolveTracks(const SurveyInput& in, const std::vector<int>& frames, const st
       }
       for (int point = 0; point < 2; ++point) {
         const Eigen::Vector2d px = point == 0 ? c.peak_px : c.base_px;
-        const Eigen::Matrix3d S = w * Skew((R[k] * K_inv * px.homogeneous()).normalized());
+        const Eigen::Matrix3d S = w * pose_math::Skew((R[k] * K_inv * px.homogeneous()).normalized());
         // The point's offset from B per unit of height: z for the peak, tau u for the base.
         const Eigen::Vector3d per_h = point == 0 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d(tau * u);
         const Eigen::Vector3d S_h = S * per_h;
@@ -310,9 +306,8 @@ bool InitialiseSurvey(const SurveyInput& in, const Inventory& inv, const SurveyC
   // the frames before it take its position.
   double first_window_s = 6.0;
   int k0 = 0;
-  for (int k = 0; k < K; ++k)  // six seconds after the first frame that moved
-    if (gyro.Delta(in.frames[frames[0]].stamp_s, in.frames[frames[k]].stamp_s, bias_imu)
-            .isApprox(Eigen::Matrix3d::Identity(), 1e-3) == false) {
+  for (int k = 0; k < K; ++k)  // six seconds after the first frame that moved (R: the gyro's rotations)
+    if (!(R[0].transpose() * R[k]).isApprox(Eigen::Matrix3d::Identity(), 1e-3)) {
       first_window_s = in.frames[frames[k]].stamp_s - t0 + 6.0;
       k0 = std::max(0, k - 1);
       break;
