@@ -70,7 +70,7 @@ ConeSpec ReadCone(const StrictReader& r, const YAML::Node& n, const std::string&
   if (!(cone.tau > 0.02 && cone.tau < 1.0)) r.Fail(n["tau"], FieldPath(where, "tau"), "must be in (0.02, 1)");
   cone.albedo = ReadColor(r, n, where, "albedo", cone.albedo);
   cone.base_plate_m = r.Number(n, where, "base_plate_m", cone.base_plate_m);
-  if (const YAML::Node sigma = n["sigma_m"]) {  // a surveyed position's 1-sigma: LoadConeSigmas (surveyed_layout.h)
+  if (const YAML::Node sigma = n["sigma_m"]) {  // a surveyed position's 1-sigma (surveyed_layout.h)
     const std::string field = FieldPath(where, "sigma_m");
     if (!sigma.IsSequence() || sigma.size() != 3) r.Fail(sigma, field, "must be [x, y, z] in metres");
     for (int i = 0; i < 3; ++i) {
@@ -80,6 +80,7 @@ ConeSpec ReadCone(const StrictReader& r, const YAML::Node& n, const std::string&
       } catch (const YAML::Exception&) {
       }
       if (!(std::isfinite(v) && v >= 0.0)) r.Fail(sigma, field, "components must be finite and >= 0");
+      cone.sigma_m[i] = v;
     }
   }
   if (!(cone.base_plate_m >= 0.0)) r.Fail(n["base_plate_m"], FieldPath(where, "base_plate_m"), "must be >= 0");
@@ -309,16 +310,8 @@ Layout ParseLayout(const std::string& yaml_text, const std::string& source) {
 Layout LoadLayoutFile(const std::string& path) { return ParseRoot(LoadYamlFile(path), path); }
 
 std::vector<Eigen::Vector3d> LoadConeSigmas(const std::string& path) {
-  const YAML::Node root = LoadYamlFile(path);
-  const Layout layout = ParseRoot(root, path);  // checks every sigma_m
-  std::vector<Eigen::Vector3d> out(layout.cones.size(), Eigen::Vector3d::Constant(NAN));
-  const size_t first_listed = root["equilateral"] ? 3 : 0;
-  if (const YAML::Node list = root["cones"]) {
-    for (size_t i = 0; i < list.size(); ++i) {
-      if (const YAML::Node sigma = list[i]["sigma_m"])
-        for (int k = 0; k < 3; ++k) out[first_listed + i][k] = sigma[k].as<double>();
-    }
-  }
+  std::vector<Eigen::Vector3d> out;
+  for (const ConeSpec& c : LoadLayoutFile(path).cones) out.push_back(c.sigma_m);
   return out;
 }
 

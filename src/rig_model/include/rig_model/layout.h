@@ -16,6 +16,7 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -44,6 +45,8 @@ struct ConeSpec {
   std::vector<std::pair<double, double>> collars;
   Eigen::Vector3d albedo = Eigen::Vector3d(0.90, 0.16, 0.012);  // linear RGB, safety orange
   double base_plate_m = 0.0;  // side of the black square base on the ground (road cones)
+  // A surveyed position's 1-sigma per axis (`sigma_m`, surveyed_layout.h); NaN when not given.
+  Eigen::Vector3d sigma_m = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
 
   double radius_m() const { return tau * height_m; }
   Eigen::Vector3d peak_m() const { return base_m + Eigen::Vector3d(0, 0, height_m); }

@@ -1,7 +1,7 @@
 // Layout files written by programs: cone_survey's survey_layout (surveyed positions with each
 // cone's 1-sigma per axis as `sigma_m: [sx, sy, sz]`, metres, in the layout's frame) and rig_sim's
-// make_layout (random layouts). The layout parser (layout.h) checks `sigma_m`; this reads it back
-// and writes the `cones:` list. ROS-free.
+// make_layout (random layouts). The layout parser (layout.h) reads `sigma_m` into ConeSpec::sigma_m;
+// this collects them, and writes the `cones:` list. ROS-free.
 #pragma once
 
 #include <string>
@@ -13,8 +13,8 @@
 
 namespace rig_model {
 
-// One entry per cone of LoadLayoutFile(path), in its order; NaN for a cone without `sigma_m`
-// (and for the equilateral cones). Throws FileError as LoadLayoutFile does.
+// ConeSpec::sigma_m of each cone of LoadLayoutFile(path), in its order; NaN for a cone without
+// `sigma_m` (and for the equilateral cones). Throws FileError as LoadLayoutFile does.
 std::vector<Eigen::Vector3d> LoadConeSigmas(const std::string& path);
 
 // The `cones:` list of a layout file, one flow mapping per cone: x_m, y_m, z_m, height_m, style, and
