@@ -1,6 +1,6 @@
 // The survey's inventory: the placed cones without positions, and which one is the origin of the
-// `cones` frame and which one marks +x. A layout file's `cones:` list of {height_m, style} (tau,
-// albedo and collars allowed, positions not), plus two indices into it:
+// `cones` frame and which one marks +x. A layout file's `cones:` list of {height_m, style} (and
+// optionally tau; no positions, no scenery keys), plus two indices into it:
 //
 //   cones:
 //     - {height_m: 0.91, style: road}
