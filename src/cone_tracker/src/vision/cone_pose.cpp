@@ -3,6 +3,8 @@
 #include "cone_tracker/vision/cone_pose_search.h"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <functional>
 #include <numeric>
 
@@ -33,6 +35,31 @@ bool Project(const pose_math::Pose& T_camera_cones, const CameraModel& cam, cons
   if (!(p.z() > 1e-6)) return false;
   *uv = Eigen::Vector2d(cam.fx_px * p.x() / p.z() + cam.cx_px, cam.fy_px * p.y() / p.z() + cam.cy_px);
   return true;
+}
+
+// The image of the model's mid point (3.18), from the measured peak and base.
+// The detectors give the image midpoint of peak and base, but perspective moves
+// the midpoint of a 3-D segment towards its farther end: at 512x384 that was a
+// 1.6-2.2 px bias in v on every rig_sim bag (pose_ekf's README, "Status"). The
+// image of the midpoint is the harmonic conjugate of the segment's vanishing
+// point with respect to its two ends (cross-ratio -1), so it needs only the
+// direction of the cone's axis in the camera, i.e. the pose's rotation, which the
+// prediction or a first solve gives to well under a degree.
+Eigen::Vector2d PerspectiveMidpoint(const Eigen::Vector2d& peak_px, const Eigen::Vector2d& base_px,
+                                    const std::array<Eigen::Vector3d, 3>& model, const pose_math::Pose& T_camera_cones,
+                                    const CameraModel& cam) {
+  const Eigen::Vector3d dir = pose_math::RotationFromQuat(T_camera_cones.q) * (model[2] - model[0]);
+  // Vanishing point of dir, homogeneous (w = 0: at infinity, i.e. the plain midpoint).
+  const Eigen::Vector3d v(cam.fx_px * dir.x() + cam.cx_px * dir.z(), cam.fy_px * dir.y() + cam.cy_px * dir.z(),
+                          dir.z());
+  const Eigen::Vector2d seg = base_px - peak_px;
+  // Line coordinate s (peak 0, base 1) of the vanishing point: s_v = n / d; the
+  // harmonic conjugate of s_v w.r.t. 0 and 1 is s_v / (2 s_v - 1) = n / (2n - d).
+  const double n = (v.head<2>() - v.z() * peak_px).dot(seg), d = v.z() * seg.squaredNorm();
+  const double s = n / (2.0 * n - d);
+  // A vanishing point between peak and base (the camera looking along the axis) has no meaningful midpoint.
+  if (!std::isfinite(s) || s <= 0.0 || s >= 1.0) return 0.5 * (peak_px + base_px);
+  return peak_px + s * seg;
 }
 
 // 3.1.6 with a prediction: enumerate the assignments of detections to model
@@ -92,27 +119,46 @@ void EnumerateFull(size_t d, size_t n_dets, size_t n_cones, Assignment* cur, std
   if (n_dets > 3) EnumerateFull(d + 1, n_dets, n_cones, cur, used, out);  // a distractor
 }
 
-PnpResult Solve(const std::vector<ConeDetection>& dets, const std::vector<ConeModel>& cones, const Assignment& a,
-                const CameraModel& cam, const ConePoseConfig& cfg, const std::optional<pose_math::Pose>& initial,
-                const Eigen::Vector3d& eye) {
+PnpResult SolveOnce(const std::vector<ConeDetection>& dets, const std::vector<ConeModel>& cones, const Assignment& a,
+                    const CameraModel& cam, const ConePoseConfig& cfg, const std::optional<pose_math::Pose>& initial,
+                    const Eigen::Vector3d& eye) {
   std::vector<Eigen::Vector3d> model;
   std::vector<Eigen::Vector2d> image;
   for (size_t d = 0; d < dets.size(); ++d) {
     if (a[d] < 0) continue;
     const auto pts = CorrectedModelPoints(cones[size_t(a[d])], eye);
     model.insert(model.end(), pts.begin(), pts.end());
-    image.push_back(dets[d].peak_undist_px), image.push_back(dets[d].mid_undist_px),
-        image.push_back(dets[d].base_undist_px);
+    const ConeDetection& det = dets[d];
+    image.push_back(det.peak_undist_px);
+    image.push_back(initial ? PerspectiveMidpoint(det.peak_undist_px, det.base_undist_px, pts, *initial, cam)
+                            : det.mid_undist_px);
+    image.push_back(det.base_undist_px);
   }
   CameraModel pinhole = cam;  // detections are undistorted already (3.1.2)
   pinhole.distortion.clear();
   PnpOptions opt;
   opt.sigma_px = cfg.sigma_px;
-  PnpResult r = SolvePnp(pinhole, model, image, opt, initial);
-  if (!r.ok || initial) return r;
-  // No prediction: the surface points depend on where the camera is, so
-  // correct them again from the first solution and solve once more (3.1.4).
-  return Solve(dets, cones, a, cam, cfg, r.T_camera_model, CameraInCones(r.T_camera_model));
+  return SolvePnp(pinhole, model, image, opt, initial);
+}
+
+// The surface points (3.1.4) and the image of the mid point depend on where the
+// camera is: solve from the prediction's (or, without one, the axis points'),
+// then correct both from the solution and solve again until the eye settles.
+PnpResult Solve(const std::vector<ConeDetection>& dets, const std::vector<ConeModel>& cones, const Assignment& a,
+                const CameraModel& cam, const ConePoseConfig& cfg, const std::optional<pose_math::Pose>& initial) {
+  constexpr int kCorrections = 3;
+  constexpr double kSettledM = 1e-3;
+  PnpResult r =
+      SolveOnce(dets, cones, a, cam, cfg, initial, initial ? CameraInCones(*initial) : Eigen::Vector3d::Zero().eval());
+  for (int i = 0; i < kCorrections && r.ok; ++i) {
+    const Eigen::Vector3d eye = CameraInCones(r.T_camera_model);
+    PnpResult again = SolveOnce(dets, cones, a, cam, cfg, r.T_camera_model, eye);
+    if (!again.ok) break;
+    const double moved_m = (CameraInCones(again.T_camera_model) - eye).norm();
+    r = std::move(again);
+    if (moved_m < kSettledM) break;
+  }
+  return r;
 }
 
 }  // namespace
@@ -181,7 +227,7 @@ ConePoseResult EstimateConePose(const std::vector<ConeDetection>& dets, const st
       return out;
     }
     out.cone_of_detection = a;
-    out.pnp = Solve(dets, cones, a, cam, cfg, T_pred, CameraInCones(*T_pred));
+    out.pnp = Solve(dets, cones, a, cam, cfg, T_pred);
   } else {
     std::vector<Assignment> all;
     const ConeSearchConfig search;
@@ -202,7 +248,7 @@ ConePoseResult EstimateConePose(const std::vector<ConeDetection>& dets, const st
     double best_score = INFINITY;
     const bool searched = !(dets.size() <= kExhaustiveMax && cones.size() <= kExhaustiveMax);
     for (Assignment a : all) {
-      PnpResult r = Solve(dets, cones, a, cam, cfg, std::nullopt, Eigen::Vector3d::Zero());
+      PnpResult r = Solve(dets, cones, a, cam, cfg, std::nullopt);
       if (!r.ok) continue;
       if (searched) {  // the rough pose's gate may have missed a cone: match again at the solved pose
         const Assignment again = AssignByPrediction(dets, cones, cam, cfg, r.T_camera_model);
@@ -210,7 +256,7 @@ ConePoseResult EstimateConePose(const std::vector<ConeDetection>& dets, const st
           return std::count_if(x.begin(), x.end(), [](int c) { return c >= 0; });
         };
         if (n(again) > n(a)) {
-          const PnpResult r2 = Solve(dets, cones, again, cam, cfg, std::nullopt, Eigen::Vector3d::Zero());
+          const PnpResult r2 = Solve(dets, cones, again, cam, cfg, std::nullopt);
           if (r2.ok) r = r2, a = again;
         }
       }
