@@ -13,6 +13,7 @@
 # Each run also records the pipeline's outputs (cone_tracker/pose, observations, imu, truth, pose_ekf/pose)
 # to <run>.outputs.bag, for platform_offline.py. PLATFORM_KEEP_BAGS=1 keeps the input bags for reuse
 # (about 70 MB per second at 1024x768); a bag already in OUT_DIR/overlay_platform is reused.
+# PLATFORM_FIRST_TRIAL (default 1) starts at a later trial (seed), e.g. to add one to an earlier run.
 # Needs a built workspace (source catkin_ws/devel/setup.bash) with cone_tracker's nodelet.
 set -euo pipefail
 OUT="$(realpath -m "${1:?usage: overlay_platform.sh OUT_DIR [trials] [duration_s] [rate]}")"
@@ -26,7 +27,7 @@ LAYOUT="$(rospack find rig_model)/config/layouts/platform.yaml"
 EKF_BASE="$(rospack find ar_bringup)/config/pose_ekf_rig_sim.yaml"
 WORK="$OUT/overlay_platform"
 TOPICS=(camera/camera_info cone_tracker/pose cone_tracker/observations pose_ekf/pose imu/data_raw
-  rig_sim/ground_truth /tf_static /diagnostics)
+  rig_sim/ground_truth rig_sim/cones /tf_static /diagnostics)
 mkdir -p "$WORK"
 
 # The filter configuration NAME with gyro updates on or off, written to FILE.
@@ -74,7 +75,7 @@ run() {  # run NAME RECORD(0|1) ARGS...
   fi
 }
 
-for ((trial = 1; trial <= TRIALS; trial++)); do
+for ((trial = ${PLATFORM_FIRST_TRIAL:-1}; trial <= TRIALS; trial++)); do
   bag="$WORK/platform_seed$trial.bag"
   [[ -f "$bag" ]] || rosrun rig_sim make_bag --scenario handheld --seed "$trial" --duration "$DURATION" \
     --layout "$LAYOUT" --output "$bag"

@@ -4,13 +4,13 @@
 # gyros, trial<N>_shipped_gyro_true.outputs.bag) is replayed through ekf_replay with every filter
 # configuration, gyros on and off, in the recorded order (the live run's latency) and at the frames'
 # stamps (none), and scored by platform_offline.py; so every configuration sees the same cones.
-# Usage: platform_gyro_offline.sh PLATFORM_DIR [trials=3] [source_run=shipped_gyro_true]
+# Usage: platform_gyro_offline.sh PLATFORM_DIR ["TRIAL..."="1 2 3"] [source_run=shipped_gyro_true]
 #   PLATFORM_DIR: overlay_platform.sh's OUT_DIR/overlay_platform (its ekf_<config>_gyro_<g>.yaml are used).
 # GYRO_OLD_CONFIG=FILE adds FILE (+ use_gyro true/false) as configuration "old": e.g. the rig_sim
 # config of the November runs with the options that did not exist then turned off.
 set -euo pipefail
 DIR="$(realpath "${1:?usage: platform_gyro_offline.sh PLATFORM_DIR [trials] [source_run]}")"
-TRIALS="${2:-3}"
+read -r -a TRIALS <<<"${2:-1 2 3}"
 SOURCE="${3:-shipped_gyro_true}"
 HERE="$(cd "$(dirname "$0")" && pwd -P)"
 LAYOUT="$(rospack find rig_model)/config/layouts/platform.yaml"
@@ -26,7 +26,7 @@ if [[ -n "${GYRO_OLD_CONFIG:-}" ]]; then
   done
 fi
 [[ ${#runs[@]} -gt 0 ]] || { echo "platform_gyro_offline: no ekf_*_gyro_*.yaml in $DIR (run overlay_platform.sh first)" >&2; exit 1; }
-for ((trial = 1; trial <= TRIALS; trial++)); do
+for trial in "${TRIALS[@]}"; do
   bag="$DIR/trial${trial}_${SOURCE}.outputs.bag"
   [[ -f "$bag" ]] || { echo "platform_gyro_offline: $bag is missing" >&2; exit 1; }
   for order in arrival stamp; do

@@ -21,7 +21,7 @@ The estimate at an image stamp is the filter's output then (display_pose): inter
 outputs at most 50 ms apart, else the last output held (the overlay frozen); with --order arrival a frame's
 own camera update is in it only if the frame reached the filter before the next IMU sample was processed.
 --series writes DIR/<NAME>.series.csv: per image, the time, the dots' mean and max platform error (m), the
-dots lost, and the age of the newest camera pose the filter had (s)."""
+dots lost, and the age (s) of the newest camera pose and of the newest camera frame (a pose or cones)."""
 import argparse
 import os
 import subprocess
@@ -30,7 +30,7 @@ import tempfile
 
 import numpy as np
 
-from ar_bringup import evaluation
+from ar_bringup import evaluation, visibility
 
 INCH_M = 0.0254
 SPACING_M = 0.1
@@ -122,7 +122,6 @@ def score(rec, est, camera_pose_t=None):
         hit = p_t[:, None, :] + s[..., None] * ray_m
         err_m = np.linalg.norm(hit[..., :2] - RED[None, :, :2], axis=-1)
         err_m[~np.isfinite(err_m) | (s <= 0) | (red_est_c[..., 2] <= 0)] = np.inf  # behind: lost
-        norm_px = np.linalg.norm(e_px, axis=-1)
         # Metres per pixel on the board at each dot: the cell's size (10 cm) over its size in the image.
         right = evaluation.project(evaluation._to_camera(RED + [SPACING_M / 2, 0, 0], p_t, q_t), info)
         left = evaluation.project(evaluation._to_camera(RED - [SPACING_M / 2, 0, 0], p_t, q_t), info)
@@ -130,12 +129,15 @@ def score(rec, est, camera_pose_t=None):
         down = evaluation.project(evaluation._to_camera(RED - [0, SPACING_M / 2, 0], p_t, q_t), info)
         cell_px = 0.5 * (np.linalg.norm(right - left, axis=-1) + np.linalg.norm(up - down, axis=-1))
         m_per_px = SPACING_M / cell_px
-    del norm_px
     return t, e_px, err_m, m_per_px
 
 
+def lost_mask(e_px, err_m, m_per_px):
+    return (np.abs(e_px).max(axis=-1) * m_per_px >= SPACING_M / 2) | ~np.isfinite(err_m)
+
+
 def summarise(t, e_px, err_m, m_per_px):
-    lost = (np.abs(e_px).max(axis=-1) * m_per_px >= SPACING_M / 2) | ~np.isfinite(err_m)
+    lost = lost_mask(e_px, err_m, m_per_px)
     keep = ~lost
     px = e_px[keep]
     inch = e_px[keep] * m_per_px[keep][:, None] / INCH_M
@@ -146,22 +148,38 @@ def summarise(t, e_px, err_m, m_per_px):
         mu_i, sd_i, mu_p, sd_p = inch.mean(0), inch.std(0, ddof=1), px.mean(0), px.std(0, ddof=1)
     return dict(frames=len(t), dots=int(keep.sum()), lost=int(lost.sum()), frames_lost=frames_lost,
                 mu_in=mu_i, sd_in=sd_i, mu_px=mu_p, sd_px=sd_p,
-                rms_mm=1000 * float(np.sqrt(np.mean(np.where(np.isfinite(err_m), err_m, 1.0) ** 2))) if len(t) else np.nan)
+                median_mm=1000 * float(np.median(np.where(np.isfinite(err_m), err_m, 1e3))) if len(t) else np.nan)
 
 
-AGE_SPANS = ((0.0, 0.1, "tracked (< 0.1 s)"), (0.1, 1.0, "0.1-1 s"), (1.0, 2.0, "1-2 s"), (2.0, np.inf, "> 2 s"))
+def layout_cones(rec, layout_path):
+    """(N, 2, 3) true [peak, base] per cone: rig_sim/cones from the bag, else the layout's equilateral
+    construction (rig_model's: the centroid at the origin, cone 1 on +x)."""
+    if rec.cones is not None and len(rec.cones):
+        return rec.cones
+    from rig_model.strict_yaml import load_yaml_file
+    eq = (load_yaml_file(layout_path) or {}).get("equilateral")
+    if not eq:
+        raise SystemExit("platform_offline: %s: no rig_sim/cones in the bag and no equilateral: in the layout; "
+                         "cannot tell which cones the true camera saw" % layout_path)
+    r = float(eq["side_m"]) / np.sqrt(3.0)
+    a = np.radians([0.0, 120.0, 240.0])
+    xy = np.stack([r * np.cos(a), r * np.sin(a)], axis=1)
+    return np.stack([np.c_[xy, np.full(3, float(eq["height_m"]))], np.c_[xy, np.zeros(3)]], axis=1)
 
 
-def lost_mask(e_px, err_m, m_per_px):
-    return (np.abs(e_px).max(axis=-1) * m_per_px >= SPACING_M / 2) | ~np.isfinite(err_m)
+AGE_SPANS = ((0.0, 0.1, "pose < 0.1 s old"), (0.1, 1.0, "0.1-1 s"), (1.0, 2.0, "1-2 s"), (2.0, np.inf, "> 2 s"))
 
 
-def age_cell(t, e_px, err_m, m_per_px, camera_t, lo, hi):
-    """Median board error (mm) and the share of dots lost over the images whose newest camera frame is
-    lo..hi s old."""
-    j = np.searchsorted(camera_t, t, side="right") - 1
-    age = np.where(j >= 0, t - camera_t[np.maximum(j, 0)], np.inf)
-    m = (age >= lo) & (age < hi)
+def pose_age_class(t, pose_t):
+    """Index into AGE_SPANS per image: the age of the tracker's newest pose (a full three-cone pose)."""
+    j = np.searchsorted(pose_t, t, side="right") - 1
+    age = np.where(j >= 0, t - pose_t[np.maximum(j, 0)], np.inf) if len(pose_t) else np.full(len(t), np.inf)
+    return np.searchsorted([hi for _, hi, _ in AGE_SPANS], age, side="right")
+
+
+def view_cell(err_m, e_px, m_per_px, cls, k):
+    """Median board error (mm) and the share of dots lost over the images of class k."""
+    m = cls == k
     if not m.any():
         return "-"
     e = err_m[m]
@@ -193,7 +211,7 @@ def main(argv):
         restamp(a.bag, tmp.name)
         bag = tmp.name
     print("| run | images | dots | lost | images with a lost dot | µx in | µy in | σx in | σy in | σx px | σy px "
-          "| RMS on the board (mm, lost = 1 m) |")
+          "| median board error mm |")
     print("|---" * 12 + "|")
     notes, scored = [], []
     camera_t = np.union1d(rec.tracker.t, rec.observation_t)
@@ -211,31 +229,45 @@ def main(argv):
             s = summarise(t, e_px, err_m, m_per_px)
             print("| %s | %d | %d | %d | %d | %.3f | %.3f | %.3f | %.3f | %.2f | %.2f | %.0f |" % (
                 name, s["frames"], s["dots"], s["lost"], s["frames_lost"], s["mu_in"][0], s["mu_in"][1],
-                s["sd_in"][0], s["sd_in"][1], s["sd_px"][0], s["sd_px"][1], s["rms_mm"]))
+                s["sd_in"][0], s["sd_in"][1], s["sd_px"][0], s["sd_px"][1], s["median_mm"]))
             notes.append("%s: %s" % (name, note))
             if a.series:
-                pose_t = rec.tracker.t
                 with open(os.path.join(a.out, name + ".series.csv"), "w") as f:
-                    f.write("t_s,mean_error_m,max_error_m,dots_lost,camera_pose_age_s\n")
+                    f.write("t_s,mean_error_m,max_error_m,dots_lost,camera_pose_age_s,camera_frame_age_s\n")
                     for i, ti in enumerate(t):
-                        j = np.searchsorted(pose_t, ti, side="right") - 1
-                        age = ti - pose_t[j] if j >= 0 else np.nan
+                        ages = []
+                        for stamps in (rec.tracker.t, camera_t):
+                            j = np.searchsorted(stamps, ti, side="right") - 1
+                            ages.append(ti - stamps[j] if j >= 0 else np.nan)
                         e = np.where(np.isfinite(err_m[i]), err_m[i], 99.0)
-                        lost = int(((np.abs(e_px[i]).max(axis=-1) * m_per_px[i] >= SPACING_M / 2)
-                                    | ~np.isfinite(err_m[i])).sum())
-                        f.write("%.4f,%.4f,%.4f,%d,%.3f\n" % (ti, e.mean(), e.max(), lost, age))
+                        lost = int(lost_mask(e_px[i], err_m[i], m_per_px[i]).sum())
+                        f.write("%.4f,%.4f,%.4f,%d,%.3f,%.3f\n" % (ti, e.mean(), e.max(), lost, ages[0], ages[1]))
     finally:
         if tmp is not None:
             os.unlink(tmp.name)
     print()
-    print("Board error by the age of the newest camera frame (a pose or a frame of cones) at the image: median mm, "
+    print("Board error by the cones in the true camera's view (ar_bringup.visibility's classes): median mm, "
           "share of dots lost; images in brackets.")
+    print()
+    print("| run | " + " | ".join(label for _, label in visibility.CLASSES) + " |")
+    print("|---" * (len(visibility.CLASSES) + 1) + "|")
+    cones = layout_cones(rec, a.layout)
+    counts = visibility.cones_in_view(cones, *rec.truth.interpolate(rec.image_t)[1:], rec.camera_info,
+                                      project=evaluation.project)
+    for name, (t, e_px, err_m, m_per_px) in scored:
+        cls, _ = visibility.classify(t, rec.image_t, counts)
+        print("| %s | %s |" % (name, " | ".join(view_cell(err_m, e_px, m_per_px, cls, k)
+                                               for k in range(len(visibility.CLASSES)))))
+    print()
+    print("The same by the age of the tracker's newest full pose at the image (the same recorded tracker output "
+          "for every run; camera_update: cones also fuses frames of one or two cones in between).")
     print()
     print("| run | " + " | ".join(label for _, _, label in AGE_SPANS) + " |")
     print("|---" * (len(AGE_SPANS) + 1) + "|")
     for name, (t, e_px, err_m, m_per_px) in scored:
-        print("| %s | %s |" % (name, " | ".join(age_cell(t, e_px, err_m, m_per_px, camera_t, lo, hi)
-                                               for lo, hi, _ in AGE_SPANS)))
+        cls = pose_age_class(t, rec.tracker.t)
+        print("| %s | %s |" % (name, " | ".join(view_cell(err_m, e_px, m_per_px, cls, k)
+                                               for k in range(len(AGE_SPANS)))))
     print()
     for n in notes:
         print("- " + n)
