@@ -38,6 +38,8 @@ ekf_config() {  # ekf_config NAME GYRO FILE (as overlay_platform.sh)
     printf 'use_gyro: %s\n' "$2"; } > "$3"
 }
 
+for config in "${CONFIGS[@]}"; do ekf_config "$config" true /dev/null; done  # refuse a bad name before any run
+
 for seed in "${SEEDS[@]}"; do
   bag="$OUT/${SCENARIO}_seed$seed.input.bag"
   [[ -f "$bag" ]] || rosrun rig_sim make_bag --scenario "$SCENARIO" --seed "$seed" --scale 0.5 --layout "$LAYOUT" \

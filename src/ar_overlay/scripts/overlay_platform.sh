@@ -45,6 +45,8 @@ ekf_config() {  # ekf_config NAME GYRO FILE
     printf 'use_gyro: %s\n' "$2"; } > "$3"
 }
 
+for config in "${CONFIGS[@]}"; do ekf_config "$config" true /dev/null; done  # refuse a bad name before any run
+
 # One launch on a private master; returns when the bag has played (the player is required).
 run() {  # run NAME RECORD(0|1) ARGS...
   local name="$1" record="$2"; shift 2

@@ -200,6 +200,12 @@ def main(argv):
     for path in (a.bag, a.layout):
         if not os.path.isfile(path):
             raise SystemExit("platform_offline: %s: no such file" % path)
+    for run in a.runs:
+        name, _, config = run.partition("=")
+        if not name or not config:
+            raise SystemExit("platform_offline: run '%s': expected NAME=EKF_CONFIG.yaml or NAME=live" % run)
+        if config != "live" and not os.path.isfile(config):
+            raise SystemExit("platform_offline: run '%s': %s: no such file" % (run, config))
     rec = evaluation.load_bag(a.bag)
     if rec.camera_info is None or len(rec.truth) < 2:
         raise SystemExit("platform_offline: %s: needs camera/camera_info and rig_sim/ground_truth" % a.bag)
