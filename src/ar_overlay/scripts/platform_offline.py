@@ -94,7 +94,7 @@ def replay(bag, config, layout, out_dir, name):
     return load_tum(traj), (summary[-1] if summary else "")
 
 
-def score(rec, est, camera_pose_t=None):
+def score(rec, est):
     """Per image: (t, errors px (16, 2), platform error m (16,), m per px (16,)) where the true camera
     sees the whole blue grid and the estimate covers the stamp."""
     info = rec.camera_info
