@@ -44,5 +44,11 @@ for scenario in "${SCENARIOS[@]}"; do
     grep -E '^(position_rms_m|orientation_rms_deg|view_)' "$OUT/$name.txt" |
       grep -E 'position_rms_m|orientation_rms_deg|updated_fraction|frames ' | sed 's/^/  /'
     grep -E '^(tracker_poses|images|outages) ' "$OUT/$name.txt" | sed 's/^/  /' || true
+    if [[ "$scenario" == site ]]; then  # nearly every cone is in the image there: split by the resolved ones too
+      for px in 15 30; do
+        /usr/bin/python3 "$ROOT/scripts/site_view_split.py" --min-px "$px" "$OUT/$name.bag" | tail -1 |
+          sed "s|^.*\.bag:|  cones >= $px px tall:|"
+      done
+    fi
   done
 done
