@@ -42,8 +42,8 @@ std::string SurveyConfig::Validate() const {
     e << "adjust_rate_hz must be > 0";
   else if (!(sigma_px > 0.0 && robust_px > 0.0))
     e << "sigma_px and robust_px must be > 0";
-  else if (!(gyro_noise_rad_s > 0.0 && gravity_sigma_deg > 0.0))
-    e << "gyro_noise_rad_s, gravity_sigma_deg must be > 0";
+  else if (!(gyro_noise_rad_s > 0.0 && gravity_sigma_deg > 0.0 && accel_noise_m_s2 > 0.0))
+    e << "gyro_noise_rad_s, gravity_sigma_deg, accel_noise_m_s2 must be > 0";
   else if (!(height_tolerance > 0.0 && height_tolerance < 0.5))
     e << "height_tolerance must be in (0, 0.5)";
   else if (min_frames < 2 || !(min_view_spread_deg >= 0.0))

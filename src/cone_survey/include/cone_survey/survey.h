@@ -51,6 +51,7 @@ struct SurveyConfig {
   double robust_px = 2.0;             // Cauchy loss scale
   double gyro_noise_rad_s = 0.003;    // relative-rotation sigma = this x sqrt(dt) + 0.05 deg
   double gravity_sigma_deg = 2.0;     // the accelerometer's up direction per frame (walking accelerations)
+  double accel_noise_m_s2 = 0.5;      // the accelerometer's acceleration in the levelled frame (tilt, lever arm)
   double still_start_s = 1.0;         // the walk's first second, held still, gives the gyro bias
   double height_tolerance = 0.15;     // a found cone's height within this fraction of an inventory height
   int min_frames = 30;                // a cone seen in fewer adjusted frames is not constrained
