@@ -77,6 +77,7 @@ SurveyResult SurveyLayout(const SurveyInput& in, const Inventory& inv, const Sur
   res.reprojection_rms_px = bundle.rms_px;
   res.gyro_bias_rad_s = bundle.bias_imu;
   res.base_offset_px = bundle.base_offset_px;
+  res.scale_sigma = bundle.scale_sigma;
 
   // Per cone: frames, directions, residuals.
   const double t0 = in.frames.front().stamp_s;
@@ -106,6 +107,7 @@ SurveyResult SurveyLayout(const SurveyInput& in, const Inventory& inv, const Sur
     c.spec = inv.cones[i];
     c.spec.base_m = survey.base_m[i];
     c.sigma_m = bundle.sigma_m[i];
+    c.correlation_factor = bundle.correlation_factor[i];
     c.frames = count[i];
     c.view_spread_deg = ViewSpreadDeg(azimuths[i]);
     c.rms_px = count[i] ? std::sqrt(sum_sq[i] / count[i]) : 0.0;
