@@ -120,3 +120,12 @@ eval-photos: build
 SEEDS ?= 4 5
 eval-tracking: build
 	@$(ENV) && bash $(ROOT)/scripts/eval_tracking.sh $(ROOT)/out/eval_tracking $(SEEDS)
+
+# Tracking on rig_sim's `site` (14 cones over 19 m x 19 m, its own layout, often only one or two in
+# view), seeds 1-5 (SITE_SEEDS), replayed at half rate (the 2-core machine drops frames otherwise),
+# into out/eval_site/ (rig_sim's README, "Site tracking").
+.PHONY: eval-site
+SITE_SEEDS ?= 1 2 3 4 5
+eval-site: build
+	@$(ENV) && EVAL_SCENARIOS=site EVAL_ARGS="rate:=0.5 $(EVAL_ARGS)" \
+	  bash $(ROOT)/scripts/eval_tracking.sh $(ROOT)/out/eval_site $(SITE_SEEDS)

@@ -5,6 +5,8 @@
 # on them (pose_ekf's README says which seeds the defaults were chosen on).
 # Usage: scripts/eval_tracking.sh [OUT_DIR] [SEED...]   (needs a built, sourced workspace)
 # EVAL_SCENARIOS overrides the scenarios, EVAL_ARGS adds replay.launch arguments (e.g. ekf_config:=...).
+# EVAL_LAYOUT: the layout file the bags are made with and tracked against; by default asymmetric.yaml,
+# except the `site` scenario, which keeps its own (rig_model's site.yaml; `make eval-site`).
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 OUT="$(realpath -m "${1:-$ROOT/out/eval_tracking}")"
@@ -12,13 +14,20 @@ shift || true
 SEEDS=("${@:-4 5}")
 read -r -a SEEDS <<<"${SEEDS[*]}"
 SCENARIOS=(${EVAL_SCENARIOS:-handheld look_away})
-LAYOUT="$(rospack find rig_model)/config/layouts/asymmetric.yaml"
+LAYOUTS="$(rospack find rig_model)/config/layouts"
+layout_of() {  # the scenario's layout file
+  if [[ -n "${EVAL_LAYOUT:-}" ]]; then realpath -m "$EVAL_LAYOUT"
+  elif [[ "$1" == site ]]; then echo "$LAYOUTS/site.yaml"
+  else echo "$LAYOUTS/asymmetric.yaml"; fi
+}
 mkdir -p "$OUT"
 # A private master on a random port: a roscore already running is never disturbed.
 export ROS_MASTER_URI="http://localhost:$((20000 + RANDOM % 20000))"
 port="${ROS_MASTER_URI##*:}"
 
 for scenario in "${SCENARIOS[@]}"; do
+  LAYOUT="$(layout_of "$scenario")"
+  [[ -f "$LAYOUT" ]] || { echo "eval_tracking: EVAL_LAYOUT $LAYOUT: no such file" >&2; exit 2; }
   for seed in "${SEEDS[@]}"; do
     name="${scenario}_seed${seed}"
     bag="$OUT/$name.input.bag"
@@ -34,5 +43,12 @@ for scenario in "${SCENARIOS[@]}"; do
     echo "eval_tracking: $name"
     grep -E '^(position_rms_m|orientation_rms_deg|view_)' "$OUT/$name.txt" |
       grep -E 'position_rms_m|orientation_rms_deg|updated_fraction|frames ' | sed 's/^/  /'
+    grep -E '^(tracker_poses|images|outages) ' "$OUT/$name.txt" | sed 's/^/  /' || true
+    if [[ "$scenario" == site ]]; then  # nearly every cone is in the image there: split by the resolved ones too
+      for px in 15 30; do
+        /usr/bin/python3 "$ROOT/scripts/site_view_split.py" --min-px "$px" "$OUT/$name.bag" | tail -1 |
+          sed "s|^.*\.bag:|  cones >= $px px tall:|"
+      done
+    fi
   done
 done

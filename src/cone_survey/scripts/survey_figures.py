@@ -21,6 +21,11 @@ def cones_of(path):
                 for c in yaml.safe_load(f)["cones"]]
 
 
+def sigmas_of(path):
+    with open(path) as f:
+        return np.array([c.get("sigma_m", [np.nan] * 3) for c in yaml.safe_load(f)["cones"]], dtype=float)
+
+
 def devel(tool, package):
     return os.path.join(os.environ.get("CATKIN_DEVEL", os.path.join(os.path.dirname(__file__), "../../../catkin_ws/devel")),
                         "lib", package, tool)
@@ -46,7 +51,7 @@ def main():
     ap.add_argument("--scale", type=float, default=0.5)
     a = ap.parse_args()
     work = tempfile.mkdtemp(prefix="survey_figures_")
-    all_errors = []
+    all_errors, all_normalised = [], []
     for run in a.runs:
         n, seed = (int(x) for x in run.split(":"))
         layout, inv, bag, out = (os.path.join(work, f"{n}_{seed}.{e}") for e in ("layout.yaml", "inv.yaml", "bag", "out.yaml"))
@@ -64,7 +69,7 @@ def main():
                            capture_output=True, text=True)
         os.remove(bag)
         if p.returncode != 0:
-            print(f"{n} cones seed {seed}: survey_layout failed: {p.stderr.strip()}")
+            print(f"{n} cones seed {seed}: survey_layout refused: {p.stderr.strip()}")
             continue
         rms_px = [l for l in p.stdout.splitlines() if "reprojection RMS" in l][0].split("RMS")[1].strip()
         got = cones_of(out)
@@ -91,10 +96,23 @@ def main():
               f"(scale {1e2 * scale:+.2f} %), per-cone error "
               f"mean {1e3 * err.mean():.1f} mm, max {1e3 * err.max():.1f} mm, reprojection RMS {rms_px}")
         print("    per cone (mm): " + " ".join(f"{1e3 * e:.1f}" for e in err))
+        # The sigmas are in the survey's frame (the anchors'): each axis's error there over its sigma.
+        sig = sigmas_of(out)
+        anchored = np.array([rz @ (dst[i] - o) for i in range(len(dst))])
+        e_axes, s_axes = (src - anchored).ravel(), sig.ravel()
+        keep = s_axes > 0
+        z = e_axes[keep] / s_axes[keep]
+        all_normalised += list(z)
+        print(f"    error / sigma per axis: RMS {np.sqrt(np.mean(z ** 2)):.2f}, |z| > 2 in {np.mean(np.abs(z) > 2):.0%}, "
+              f"> 3 in {np.mean(np.abs(z) > 3):.0%} ({keep.sum()} axes; median sigma {1e3 * np.median(s_axes[keep]):.1f} mm)")
     if all_errors:
         e = np.array(all_errors)
         print(f"all {len(e)} cones: error RMS {1e3 * np.sqrt(np.mean(e ** 2)):.1f} mm, p95 {1e3 * np.percentile(e, 95):.1f} mm, "
               f"max {1e3 * e.max():.1f} mm")
+    if all_normalised:
+        z = np.array(all_normalised)
+        print(f"all {len(z)} axes: error / sigma RMS {np.sqrt(np.mean(z ** 2)):.2f}, |z| > 2 in {np.mean(np.abs(z) > 2):.0%}, "
+              f"> 3 in {np.mean(np.abs(z) > 3):.0%} (1.00, 5 % and 0.3 % if the sigmas are honest)")
 
 
 if __name__ == "__main__":

@@ -1,6 +1,7 @@
 #include "bundle.h"
 
 #include <cmath>
+#include <map>
 #include <memory>
 
 #include <ceres/ceres.h>
@@ -23,7 +24,7 @@ struct Reprojection {
   ConeSighting seen;
   double height_m, tau, fx, fy, cx, cy;
   bool Errors(const double* q_world_camera, const double* p_camera, const double* base, const double* base_px,
-              double* r) const {
+              double* r, double* length_error = nullptr) const {
     const Eigen::Map<const Eigen::Quaterniond> q(q_world_camera);
     const Eigen::Map<const Eigen::Vector3d> p(p_camera), b(base);
     const auto points = rig_model::CorrectedModelPoints(b, height_m, tau, p);
@@ -37,6 +38,10 @@ struct Reprojection {
     const Eigen::Vector2d foot = px[1] - *base_px * (px[0] - px[1]).normalized();
     r[0] = px[0].x() - seen.peak_px.x(), r[1] = px[0].y() - seen.peak_px.y();
     r[2] = foot.x() - seen.base_px.x(), r[3] = foot.y() - seen.base_px.y();
+    if (length_error) {  // how much longer the detected cone is than the model's, as a fraction
+      const Eigen::Vector2d axis = px[0] - foot;
+      *length_error = ((seen.peak_px - seen.base_px) - axis).dot(axis) / axis.squaredNorm();
+    }
     return true;
   }
 };
@@ -95,6 +100,40 @@ struct BiasPrior {
     return true;
   }
 };
+
+// How many times fewer independent sightings a cone has than sightings: the detector's errors of
+// one cone are correlated from frame to frame (the tip a few pixels wide, the front arc of the base
+// change little between frames), so its position is known from about n / f independent ones, and
+// its covariance is f times the adjustment's, which assumes independent errors. f is the integrated
+// autocorrelation of its pixel errors over the adjusted frames, 1 + 2 sum_l rho_l, summed up to
+// the first lag whose correlation is not positive (Sokal's window, at most 5 s at 10 Hz);
+// rho_l pools the four coordinates over the pairs of its sightings l frames apart.
+double CorrelationFactor(const std::map<int, Eigen::Vector4d>& errors) {
+  if (errors.size() < 4) return 1.0;
+  Eigen::Vector4d mean = Eigen::Vector4d::Zero();
+  for (const auto& [k, r] : errors) mean += r;
+  mean /= static_cast<double>(errors.size());
+  double var = 0.0;
+  for (const auto& [k, r] : errors) var += (r - mean).squaredNorm();
+  var /= static_cast<double>(errors.size());
+  if (!(var > 0.0)) return 1.0;
+  double f = 1.0;
+  for (int lag = 1; lag <= 50; ++lag) {
+    double sum = 0.0;
+    int pairs = 0;
+    for (const auto& [k, r] : errors) {
+      const auto other = errors.find(k + lag);
+      if (other == errors.end()) continue;
+      sum += (r - mean).dot(other->second - mean);
+      ++pairs;
+    }
+    if (pairs < 3) break;
+    const double rho = sum / pairs / var;
+    if (!(rho > 0.0)) break;
+    f += 2.0 * rho;
+  }
+  return f;
+}
 
 }  // namespace
 
@@ -156,15 +195,35 @@ bool AdjustSurvey(const SurveyInput& in, const Inventory& inv, const SurveyConfi
   // Errors per observation, in pixels.
   double sum_sq = 0.0;
   result->error_px.assign(models.size(), 1e9);
+  std::vector<std::map<int, Eigen::Vector4d>> series(inv.cones.size());  // per cone: adjusted frame -> errors
+  std::vector<double> length_sum(inv.cones.size(), 0.0);
+  std::vector<int> length_n(inv.cones.size(), 0);
   for (size_t i = 0; i < models.size(); ++i) {
     const Observation& o = s->observations[i];
-    double r[4];
+    double r[4], length_error = 0.0;
     if (!models[i].model.Errors(q[o.frame].data(), s->p_camera_m[o.frame].data(), s->base_m[o.cone].data(),
-                                &base_offset_px, r))
+                                &base_offset_px, r, &length_error))
       continue;
     result->error_px[i] = std::max(std::hypot(r[0], r[1]), std::hypot(r[2], r[3]));
     sum_sq += r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3];
+    if (result->error_px[i] < config.outlier_px) {
+      series[o.cone][o.frame] = Eigen::Map<Eigen::Vector4d>(r);
+      length_sum[o.cone] += length_error;
+      ++length_n[o.cone];
+    }
   }
+  // The detector's bias on each cone's length in the image (the tip, the base's front arc), as a
+  // fraction of its length: a random bias per cone, eps_i, which the walk's sightings average but
+  // cannot remove. The known heights give the scale, so it comes out off by the mean of the eps_i,
+  // whose sigma is sd(eps) / sqrt(cones) (the spread of the per-cone means over the cones measures
+  // sd(eps); the common part of the eps_i is that scale error and leaves no trace).
+  std::vector<double> eps;
+  for (size_t i = 0; i < inv.cones.size(); ++i)
+    if (length_n[i] > 0) eps.push_back(length_sum[i] / length_n[i]);
+  double eps_mean = 0.0, eps_var = 0.0;
+  for (double e : eps) eps_mean += e / eps.size();
+  for (double e : eps) eps_var += (e - eps_mean) * (e - eps_mean) / std::max<size_t>(1, eps.size() - 1);
+  result->scale_sigma = eps.size() > 1 ? std::sqrt(eps_var / eps.size()) : 0.0;
   result->rms_px = models.empty() ? 0.0 : std::sqrt(sum_sq / (4.0 * models.size()));
   // Each cone's covariance in the inventory's frame, scaled by the fit's variance factor.
   ceres::Covariance::Options cov_options;
@@ -181,11 +240,17 @@ bool AdjustSurvey(const SurveyInput& in, const Inventory& inv, const SurveyConfi
   const double dof = std::max(1, summary.num_residuals_reduced - summary.num_effective_parameters_reduced);
   const double variance_factor = 2.0 * summary.final_cost / dof;
   result->sigma_m.assign(inv.cones.size(), Eigen::Vector3d::Zero());
+  result->correlation_factor.assign(inv.cones.size(), 1.0);
   for (size_t i = 0; i < inv.cones.size(); ++i) {
+    result->correlation_factor[i] = CorrelationFactor(series[i]);
     if (static_cast<int>(i) == inv.origin) continue;
     Eigen::Matrix3d C;
     covariance.GetCovarianceBlock(s->base_m[i].data(), s->base_m[i].data(), C.data());
-    result->sigma_m[i] = (variance_factor * C.diagonal()).cwiseMax(0.0).cwiseSqrt();
+    // The scale's error moves every cone along its position from the origin cone.
+    const Eigen::Vector3d& p = s->base_m[i];
+    const Eigen::Matrix3d total = variance_factor * result->correlation_factor[i] * C +
+                                  result->scale_sigma * result->scale_sigma * p * p.transpose();
+    result->sigma_m[i] = total.diagonal().cwiseMax(0.0).cwiseSqrt();
   }
   return true;
 }

@@ -13,9 +13,11 @@
 namespace cone_survey {
 
 struct BundleResult {
-  std::vector<Eigen::Vector3d> sigma_m;  // per inventory cone (zero where the frame fixes it)
-  std::vector<double> error_px;          // per observation: the larger of its peak and base errors
-  double rms_px = 0.0;                   // per coordinate over all observations
+  std::vector<Eigen::Vector3d> sigma_m;    // per inventory cone (zero where the frame fixes it)
+  std::vector<double> correlation_factor;  // per cone: its covariance over the independent-error one
+  double scale_sigma = 0.0;                // the layout's scale's 1-sigma (fraction) from the detector's per-cone bias
+  std::vector<double> error_px;            // per observation: the larger of its peak and base errors
+  double rms_px = 0.0;                     // per coordinate over all observations
   Eigen::Vector3d bias_imu = Eigen::Vector3d::Zero();
   double base_offset_px = 0.0;  // the detected bases' offset below the model's, along the cone's image axis
 };

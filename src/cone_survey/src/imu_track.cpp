@@ -36,6 +36,24 @@ Eigen::Matrix3d GyroIntegrator::Delta(double t_a, double t_b, const Eigen::Vecto
   return R;
 }
 
+Eigen::Vector3d GyroIntegrator::SpecificForceIntegral(double t_a, double t_b, double t_ref,
+                                                      const Eigen::Matrix3d& R_world_camera_ref,
+                                                      const Eigen::Vector3d& bias_imu) const {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  const double half = 0.5 * period_s_;
+  auto it = std::lower_bound(imu_.begin(), imu_.end(), t_a - half,
+                             [](const ImuReading& r, double t) { return r.stamp_s < t; });
+  for (; it != imu_.end() && it->stamp_s - half < t_b; ++it) {
+    const double overlap = std::min(t_b, it->stamp_s + half) - std::max(t_a, it->stamp_s - half);
+    if (overlap <= 0.0) continue;
+    const double t = it->stamp_s;
+    const Eigen::Matrix3d R = t >= t_ref ? Eigen::Matrix3d(R_world_camera_ref * Delta(t_ref, t, bias_imu))
+                                         : Eigen::Matrix3d(R_world_camera_ref * Delta(t, t_ref, bias_imu).transpose());
+    sum += R * (R_camera_imu_ * it->accel_m_s2) * overlap;
+  }
+  return sum;
+}
+
 bool GyroIntegrator::UpInCamera(double t, double half_window, Eigen::Vector3d* up) const {
   auto it = std::lower_bound(imu_.begin(), imu_.end(), t - half_window,
                              [](const ImuReading& r, double s) { return r.stamp_s < s; });

@@ -24,6 +24,12 @@ class GyroIntegrator {
   // The accelerometer's mean specific force over [t - half, t + half] in the camera frame, normalised:
   // up, while the rig does not accelerate. False when no sample lies there.
   bool UpInCamera(double t_s, double half_window_s, Eigen::Vector3d* up) const;
+  // The accelerometer's specific force over [t_a, t_b], integrated in the levelled world frame whose
+  // camera rotation at t_ref is R_world_camera_ref (the gyro carries it to each sample): the velocity
+  // change over the interval plus g (t_b - t_a) z, m/s. The lever arm is neglected.
+  Eigen::Vector3d SpecificForceIntegral(double t_a_s, double t_b_s, double t_ref_s,
+                                        const Eigen::Matrix3d& R_world_camera_ref,
+                                        const Eigen::Vector3d& bias_imu) const;
   // The mean gyro over the first `still_s` seconds when the rig was still then (spread below
   // 0.02 rad/s per axis, accelerometer within 0.3 m/s^2 of g); false otherwise.
   bool StillStartBias(double still_s, Eigen::Vector3d* bias_imu) const;

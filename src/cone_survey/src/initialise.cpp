@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/SparseCholesky>
 
+#include "place_refine.h"
 #include "pose_math/quaternion.h"
 
 namespace cone_survey {
@@ -23,6 +24,10 @@ Eigen::Matrix3d LevelRotation(const Eigen::Vector3d& up) {
   R_camera_world << x, z.cross(x), z;  // columns: world axes in the camera
   return R_camera_world.transpose();
 }
+
+// The first linear pass knows no ranges: its ray rows are in metres at about this distance.
+constexpr double kNominalRangeM = 3.0;
+constexpr double kGravityM_s2 = 9.80665;
 
 struct Placed {  // a track placed by the linear solve
   int track;
@@ -48,11 +53,6 @@ struct Group {  // tracks of one cone
   }
 };
 
-struct Use {  // a track's sightings in the adjusted frames
-  int track;
-  std::vector<std::pair<int, int>> sightings;  // (adjusted frame, sighting)
-};
-
 // Linear structure from motion with known rotations: every sighting's peak and base rays through
 // the camera, S(d) (X - p_k) = 0, with X = B + h z for the peak and X = B (+ tau h u, the base circle's
 // front toward the camera along u from the previous pass, 3.16) for the base. Unknowns: camera
@@ -61,14 +61,18 @@ bool SolveTracks(const SurveyInput& in, const std::vector<int>& frames, const st
                  const std::vector<Use>& uses, const std::vector<int>& unit, const std::vector<double>& fixed_h,
                  const std::vector<std::vector<double>>& weights, double tau,
                  const std::vector<Eigen::Vector3d>& prev_cameras, const std::vector<Eigen::Vector3d>& prev_bases,
-                 std::vector<Eigen::Vector3d>* cameras, std::vector<Eigen::Vector3d>* bases,
-                 std::vector<double>* heights) {
+                 const std::vector<Eigen::Vector3d>& dv, double accel_weight, std::vector<Eigen::Vector3d>* cameras,
+                 std::vector<Eigen::Vector3d>* bases, std::vector<double>* heights) {
   const int K = static_cast<int>(frames.size()), T = static_cast<int>(uses.size());
   const int U = *std::max_element(unit.begin(), unit.end()) + 1;
   std::vector<int> h_index(T, -1);
   int n = 3 * (K - 1) + 3 * U;
   for (int t = 0; t < T; ++t)
     if (std::isnan(fixed_h[t])) h_index[t] = n++;
+  // The accelerometer in the solution's units: one scale (metres per unit until the heights fix it)
+  // and one constant acceleration error (g's magnitude, the accelerometer's bias).
+  const int accel_scale_index = n++, accel_bias_index = n;
+  n += 3;
   std::vector<Eigen::Triplet<double>> trip;
   std::vector<double> rhs;
   Eigen::Matrix3d K_inv = Eigen::Matrix3d::Identity();
@@ -105,19 +109,27 @@ bool SolveTracks(const SurveyInput& in, const std::vector<int>& frames, const st
       }
     }
   }
-  // A hand-held camera's velocity changes little between adjusted frames: a weak prior on the second
-  // difference of its positions ties the scale across stretches where few cones link the frames.
-  const double lambda = prev_bases.empty() ? 1.0 : 0.25;
+  // The accelerometer: the second difference of the camera positions is the velocity change it
+  // measured between the frames (dv, m/s; the lever arm neglected), times the solution's scale, plus
+  // one constant acceleration error. One scale for the whole window, so it holds the scale where few
+  // cones link one stretch of the walk to the next: without it the scale drifted along hand-overs of
+  // short tracks (an 11-cone layout's first window placed heights from 0.55 to 2.2 times their true
+  // ones). Rows in the units of the ray rows: accel_weight is (their sigma) / (the accelerometer's
+  // sigma in m/s^2).
+  const double range_m = prev_bases.empty() ? kNominalRangeM : 1.0;  // the first pass's rows are in metres
   for (int k = 1; k + 1 < K; ++k) {
     const double ta = in.frames[frames[k - 1]].stamp_s, tb = in.frames[frames[k]].stamp_s,
                  tc = in.frames[frames[k + 1]].stamp_s;
-    if (tc - ta > 0.5) continue;
-    const double wa = 1.0 / (tb - ta), wc = 1.0 / (tc - tb), scale = lambda * 0.1 * (tc - ta) / 2.0;
+    if (tc - ta > 0.5 || !dv[k].allFinite()) continue;
+    const double wa = 1.0 / (tb - ta), wc = 1.0 / (tc - tb), span = (tc - ta) / 2.0;
+    const double scale = range_m * accel_weight / span;
     const int idx[3] = {k - 1, k, k + 1};
     const double coef[3] = {wa * scale, -(wa + wc) * scale, wc * scale};
     for (int r = 0; r < 3; ++r) {
       for (int i = 0; i < 3; ++i)
         if (idx[i] > 0) trip.emplace_back(row + r, 3 * (idx[i] - 1) + r, coef[i]);
+      trip.emplace_back(row + r, accel_scale_index, -dv[k][r] * scale);
+      trip.emplace_back(row + r, accel_bias_index + r, -span * scale);
       rhs.push_back(0.0);
     }
     row += 3;
@@ -266,6 +278,16 @@ bool InitialiseSurvey(const SurveyInput& in, const Inventory& inv, const SurveyC
   for (size_t k = 1; k < frames.size(); ++k)
     R[k] = R[k - 1] * gyro.Delta(in.frames[frames[k - 1]].stamp_s, in.frames[frames[k]].stamp_s, bias_imu);
 
+  // The accelerometer's velocity change around each adjusted frame, between the midpoints to its
+  // neighbours, gravity taken off (NaN at the ends).
+  std::vector<Eigen::Vector3d> dv(frames.size(), Eigen::Vector3d::Constant(NAN));
+  for (size_t k = 1; k + 1 < frames.size(); ++k) {
+    const double ta = in.frames[frames[k - 1]].stamp_s, tb = in.frames[frames[k]].stamp_s,
+                 tc = in.frames[frames[k + 1]].stamp_s;
+    const double a = 0.5 * (ta + tb), c = 0.5 * (tb + tc);
+    dv[k] = gyro.SpecificForceIntegral(a, c, tb, R[k], bias_imu) - Eigen::Vector3d(0, 0, kGravityM_s2 * (c - a));
+  }
+  const double accel_weight = config.sigma_px / in.camera.fx_px / config.accel_noise_m_s2;
   // Tracks with two or more adjusted sightings.
   std::vector<Use> uses;
   std::vector<Group> groups;
@@ -347,7 +369,8 @@ bool InitialiseSurvey(const SurveyInput& in, const Inventory& inv, const SurveyC
     // points moved to the cone's front, 3.16).
     for (int robust = 0; robust < 2; ++robust) {
       if (!SolveTracks(in, frames_w, R_w, uses_w, unit, fixed_w, weights, last && robust ? 1.0 / 7.0 : 0.0,
-                       prev_cameras, prev_bases, &cameras, &bases, &heights)) {
+                       prev_cameras, prev_bases, std::vector<Eigen::Vector3d>(dv.begin() + k0, dv.begin() + Kw),
+                       accel_weight, &cameras, &bases, &heights)) {
         *error = "the walk's frames and cones do not form one connected survey (linear solve failed)";
         return false;
       }
@@ -355,6 +378,8 @@ bool InitialiseSurvey(const SurveyInput& in, const Inventory& inv, const SurveyC
       prev_cameras = cameras;
       prev_bases = bases;
     }
+    RefinePlacement(in, frames_w, R_w, uses_w, fixed_w, std::vector<Eigen::Vector3d>(dv.begin() + k0, dv.begin() + Kw),
+                    config, &cameras, &bases, &heights);
     prev_cameras.clear();
     prev_bases.clear();
     double scale = 1.0;

@@ -5,6 +5,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "rig_model/layout_yaml.h"
 #include "rig_model/strict_yaml.h"
 
 namespace cone_survey {
@@ -14,10 +15,6 @@ using rig_model::ConeStyle;
 using rig_model::FieldPath;
 using rig_model::StrictReader;
 
-const std::vector<std::string> kTopKeys = {"cones", "origin", "x_axis"};
-// Positions are what the survey measures: an inventory gives none (the message says so).
-const std::vector<std::string> kConeKeys = {"height_m", "style", "tau"};
-
 int ReadIndex(const StrictReader& r, const YAML::Node& root, const char* key, int fallback, int n) {
   const double v = r.Number(root, "", key, fallback);
   if (v != std::floor(v) || v < 0 || v >= n)
@@ -26,42 +23,20 @@ int ReadIndex(const StrictReader& r, const YAML::Node& root, const char* key, in
   return static_cast<int>(v);
 }
 
+// The cones through rig_model's layout parser (the layout schema without positions), so a cone's
+// fields are described and checked in one place; origin and x_axis are the inventory's own.
 Inventory ParseRoot(const YAML::Node& root, const std::string& source) {
   const StrictReader r(source);
   if (!root || root.IsNull()) r.Fail(root, "cones", "empty inventory: give 'cones:' with {height_m, style} per cone");
-  r.CheckKeys(root, kTopKeys, "");
-  const YAML::Node list = root["cones"];
-  if (!list || !list.IsSequence())
-    r.Fail(list ? list : root, "cones", "must be a list like [{height_m: 0.71, style: road}]");
+  rig_model::LayoutSchema schema;
+  schema.positions = false;
+  schema.no_positions_why = "an inventory gives no positions: the survey measures them";
+  schema.height_required = true;
+  schema.what = "inventory";
+  schema.extra_top_keys = {"origin", "x_axis"};
   Inventory inv;
-  for (size_t i = 0; i < list.size(); ++i) {
-    const std::string where = "cones[" + std::to_string(i) + "]";
-    const YAML::Node& n = list[i];
-    for (const char* pos : {"x_m", "y_m", "z_m"})
-      if (n.IsMap() && n[pos])
-        r.Fail(n[pos], FieldPath(where, pos), "an inventory gives no positions: the survey measures them");
-    r.CheckKeys(n, kConeKeys, where);
-    const std::string style = r.String(n, where, "style", "road");
-    if (style != "road" && style != "plain") r.Fail(n["style"], FieldPath(where, "style"), "must be 'road' or 'plain'");
-    const double h = r.RequiredNumber(n, where, "height_m");
-    if (h < rig_model::LayoutLimits::kMinHeightM || h > rig_model::LayoutLimits::kMaxHeightM) {
-      std::ostringstream m;
-      m << h << " is outside [" << rig_model::LayoutLimits::kMinHeightM << ", " << rig_model::LayoutLimits::kMaxHeightM
-        << "] m";
-      r.Fail(n["height_m"], FieldPath(where, "height_m"), m.str());
-    }
-    rig_model::ConeSpec c =
-        rig_model::MakeCone(Eigen::Vector3d::Zero(), h, style == "road" ? ConeStyle::kRoad : ConeStyle::kPlain);
-    c.tau = r.Number(n, where, "tau", c.tau);
-    if (!(c.tau > 0.02 && c.tau < 1.0)) r.Fail(n["tau"], FieldPath(where, "tau"), "must be in (0.02, 1)");
-    inv.cones.push_back(c);
-  }
+  inv.cones = rig_model::ParseLayoutRoot(root, source, schema).cones;
   const int n = static_cast<int>(inv.cones.size());
-  if (n < rig_model::LayoutLimits::kMinCones || n > rig_model::LayoutLimits::kMaxCones)
-    r.Fail(list, "cones",
-           "the inventory has " + std::to_string(n) + " cones; a layout has " +
-               std::to_string(rig_model::LayoutLimits::kMinCones) + " to " +
-               std::to_string(rig_model::LayoutLimits::kMaxCones));
   inv.origin = ReadIndex(r, root, "origin", 0, n);
   inv.x_axis = ReadIndex(r, root, "x_axis", 1, n);
   if (inv.origin == inv.x_axis) r.Fail(root["x_axis"] ? root["x_axis"] : root, "x_axis", "must differ from origin");

@@ -42,8 +42,8 @@ std::string SurveyConfig::Validate() const {
     e << "adjust_rate_hz must be > 0";
   else if (!(sigma_px > 0.0 && robust_px > 0.0))
     e << "sigma_px and robust_px must be > 0";
-  else if (!(gyro_noise_rad_s > 0.0 && gravity_sigma_deg > 0.0))
-    e << "gyro_noise_rad_s, gravity_sigma_deg must be > 0";
+  else if (!(gyro_noise_rad_s > 0.0 && gravity_sigma_deg > 0.0 && accel_noise_m_s2 > 0.0))
+    e << "gyro_noise_rad_s, gravity_sigma_deg, accel_noise_m_s2 must be > 0";
   else if (!(height_tolerance > 0.0 && height_tolerance < 0.5))
     e << "height_tolerance must be in (0, 0.5)";
   else if (min_frames < 2 || !(min_view_spread_deg >= 0.0))
@@ -77,6 +77,7 @@ SurveyResult SurveyLayout(const SurveyInput& in, const Inventory& inv, const Sur
   res.reprojection_rms_px = bundle.rms_px;
   res.gyro_bias_rad_s = bundle.bias_imu;
   res.base_offset_px = bundle.base_offset_px;
+  res.scale_sigma = bundle.scale_sigma;
 
   // Per cone: frames, directions, residuals.
   const double t0 = in.frames.front().stamp_s;
@@ -106,6 +107,7 @@ SurveyResult SurveyLayout(const SurveyInput& in, const Inventory& inv, const Sur
     c.spec = inv.cones[i];
     c.spec.base_m = survey.base_m[i];
     c.sigma_m = bundle.sigma_m[i];
+    c.correlation_factor = bundle.correlation_factor[i];
     c.frames = count[i];
     c.view_spread_deg = ViewSpreadDeg(azimuths[i]);
     c.rms_px = count[i] ? std::sqrt(sum_sq[i] / count[i]) : 0.0;

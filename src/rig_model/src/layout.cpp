@@ -5,6 +5,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "rig_model/layout_yaml.h"
 #include "rig_model/strict_yaml.h"
 #include "rig_model/surveyed_layout.h"
 
@@ -60,12 +61,17 @@ void CheckList(const StrictReader& r, const YAML::Node& n, const std::string& ke
   if (!n.IsSequence()) r.Fail(n, key, "must be a list of mappings like {x_m: 1.0, y_m: 0.0}");
 }
 
-ConeSpec ReadCone(const StrictReader& r, const YAML::Node& n, const std::string& where) {
+ConeSpec ReadCone(const StrictReader& r, const YAML::Node& n, const std::string& where, const LayoutSchema& schema) {
+  if (!schema.positions)
+    for (const char* key : {"x_m", "y_m", "z_m", "sigma_m"})
+      if (n.IsMap() && n[key]) r.Fail(n[key], FieldPath(where, key), schema.no_positions_why);
   r.CheckKeys(n, kConeKeys, where);
   const ConeStyle style = ReadStyle(r, n, where);
   const Eigen::Vector3d base(r.Number(n, where, "x_m", 0.0), r.Number(n, where, "y_m", 0.0),
                              r.Number(n, where, "z_m", 0.0));
-  ConeSpec cone = MakeCone(base, r.Number(n, where, "height_m", 0.71), style);
+  const double height_m =
+      schema.height_required ? r.RequiredNumber(n, where, "height_m") : r.Number(n, where, "height_m", 0.71);
+  ConeSpec cone = MakeCone(base, height_m, style);
   cone.tau = r.Number(n, where, "tau", cone.tau);
   if (!(cone.tau > 0.02 && cone.tau < 1.0)) r.Fail(n["tau"], FieldPath(where, "tau"), "must be in (0.02, 1)");
   cone.albedo = ReadColor(r, n, where, "albedo", cone.albedo);
@@ -103,7 +109,7 @@ ConeSpec ReadCone(const StrictReader& r, const YAML::Node& n, const std::string&
   return cone;
 }
 
-void ReadCones(const StrictReader& r, const YAML::Node& root, Layout* s) {
+void ReadCones(const StrictReader& r, const YAML::Node& root, const LayoutSchema& schema, Layout* s) {
   if (const YAML::Node e = root["equilateral"]) {
     r.CheckKeys(e, kEquilateralKeys, "equilateral");
     const ConeStyle style = ReadStyle(r, e, "equilateral");
@@ -113,14 +119,14 @@ void ReadCones(const StrictReader& r, const YAML::Node& root, Layout* s) {
   }
   if (const YAML::Node list = root["cones"]) {
     CheckList(r, list, "cones");
-    for (size_t i = 0; i < list.size(); ++i) s->cones.push_back(ReadCone(r, list[i], Item("cones", i)));
+    for (size_t i = 0; i < list.size(); ++i) s->cones.push_back(ReadCone(r, list[i], Item("cones", i), schema));
   }
   const int n = static_cast<int>(s->cones.size());
   if (n == 0) r.Fail(root, "cones", "no cones: give 'cones:' or 'equilateral:'");
   if (n < LayoutLimits::kMinCones || n > LayoutLimits::kMaxCones) {
     r.Fail(root, "cones",
-           "the layout has " + std::to_string(n) + " cones; " + std::to_string(LayoutLimits::kMinCones) + " to " +
-               std::to_string(LayoutLimits::kMaxCones) + " are supported");
+           "the " + schema.what + " has " + std::to_string(n) + " cones; " + std::to_string(LayoutLimits::kMinCones) +
+               " to " + std::to_string(LayoutLimits::kMaxCones) + " are supported");
   }
   // Where each cone came from, for the messages below: the equilateral cones come first.
   const size_t first_listed = root["equilateral"] ? 3 : 0;
@@ -138,7 +144,7 @@ void ReadCones(const StrictReader& r, const YAML::Node& root, Layout* s) {
       const auto w = where(i);
       r.Fail(w.first["height_m"] ? w.first["height_m"] : w.first, w.second + ".height_m", m.str());
     }
-    for (size_t j = 0; j < i; ++j) {
+    for (size_t j = 0; j < i && schema.positions; ++j) {
       if ((s->cones[i].base_m - s->cones[j].base_m).norm() < 1e-6 && std::abs(h - s->cones[j].height_m) < 1e-6)
         r.Fail(where(i).first, where(i).second,
                "is identical to " + where(j).second + " (cone " + std::to_string(j) + ")");
@@ -231,17 +237,21 @@ void ReadScenery(const StrictReader& r, const YAML::Node& root, Layout* s) {
   }
 }
 
-Layout ParseRoot(const YAML::Node& root, const std::string& source) {
+}  // namespace
+
+Layout ParseLayoutRoot(const YAML::Node& root, const std::string& source, const LayoutSchema& schema) {
   const StrictReader r(source);
-  if (!root || root.IsNull()) throw FileError(source + ": empty; a layout needs 'cones:' or 'equilateral:'");
-  r.CheckKeys(root, kTopKeys, "");
+  if (!root || root.IsNull())
+    throw FileError(source + ": empty; a " + schema.what + " needs 'cones:'" +
+                    (schema.positions ? " or 'equilateral:'" : ""));
+  std::vector<std::string> keys = schema.positions ? kTopKeys : std::vector<std::string>{"cones"};
+  keys.insert(keys.end(), schema.extra_top_keys.begin(), schema.extra_top_keys.end());
+  r.CheckKeys(root, keys, "");
   Layout s;
-  ReadCones(r, root, &s);
-  ReadScenery(r, root, &s);
+  ReadCones(r, root, schema, &s);
+  if (schema.positions) ReadScenery(r, root, &s);
   return s;
 }
-
-}  // namespace
 
 std::vector<Eigen::Vector3d> PlatformSpec::DotCentres() const {
   std::vector<Eigen::Vector3d> dots;
@@ -304,10 +314,10 @@ Layout ParseLayout(const std::string& yaml_text, const std::string& source) {
   } catch (const YAML::Exception& e) {
     throw FileError(source + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + e.msg);
   }
-  return ParseRoot(root, source);
+  return ParseLayoutRoot(root, source, LayoutSchema());
 }
 
-Layout LoadLayoutFile(const std::string& path) { return ParseRoot(LoadYamlFile(path), path); }
+Layout LoadLayoutFile(const std::string& path) { return ParseLayoutRoot(LoadYamlFile(path), path, LayoutSchema()); }
 
 std::vector<Eigen::Vector3d> LoadConeSigmas(const std::string& path) {
   std::vector<Eigen::Vector3d> out;

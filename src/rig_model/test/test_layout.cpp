@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "rig_model/layout_yaml.h"
 #include "rig_model/strict_yaml.h"
 #include "rig_model/surveyed_layout.h"
 #include "test_util.h"
@@ -202,6 +203,46 @@ TEST(Layout, BadValuesNameTheField) {
   EXPECT_NE(error("cones: [\n").find("not valid YAML"), std::string::npos) << error("cones: [\n");
   EXPECT_NE(error("").find("v.yaml: empty"), std::string::npos);
   EXPECT_NE(ErrorOf([] { LoadLayoutFile("/nonexistent/layout.yaml"); }).find("/nonexistent/layout.yaml: cannot open"),
+            std::string::npos);
+}
+
+// A file of the layout schema without positions (cone_survey's inventory): the same cone fields and
+// checks, positions and scenery refused, heights required, the caller's own keys let through.
+TEST(Layout, SchemaWithoutPositions) {
+  LayoutSchema schema;
+  schema.positions = false;
+  schema.no_positions_why = "no positions here";
+  schema.height_required = true;
+  schema.what = "inventory";
+  schema.extra_top_keys = {"origin"};
+  auto parse = [&](const std::string& text) { return ParseLayoutRoot(YAML::Load(text), "i.yaml", schema); };
+  auto error = [&](const std::string& text) { return ErrorOf([&] { parse(text); }); };
+  const Layout l = parse(
+      "cones:\n  - {height_m: 0.71}\n  - {height_m: 0.71, style: plain, tau: 0.2}\n"
+      "  - {height_m: 0.3}\norigin: 1\n");
+  ASSERT_EQ(l.cones.size(), 3u);  // two of one height: not "identical" without positions
+  EXPECT_EQ(l.cones[1].style, ConeStyle::kPlain);
+  EXPECT_DOUBLE_EQ(l.cones[1].tau, 0.2);
+  EXPECT_EQ(l.cones[0].base_m, Eigen::Vector3d::Zero());
+  const std::string three = "  - {height_m: 0.71}\n  - {height_m: 0.46}\n";
+  EXPECT_NE(
+      error("cones:\n" + three + "  - {height_m: 0.3, y_m: 1}\n").find("i.yaml:4: cones[2].y_m: no positions here"),
+      std::string::npos);
+  EXPECT_NE(
+      error("cones:\n" + three + "  - {height_m: 0.3, sigma_m: [0, 0, 0]}\n").find("cones[2].sigma_m: no positions"),
+      std::string::npos);
+  EXPECT_NE(error("cones:\n" + three + "  - {style: road}\n").find("cones[2].height_m"), std::string::npos);
+  EXPECT_NE(error("cones:\n" + three + "  - {height_m: 0.3, stlye: road}\n").find("(did you mean 'style'?)"),
+            std::string::npos);
+  EXPECT_NE(error("cones:\n" + three + "  - {height_m: 1.3}\n").find("cones[2].height_m: 1.3 is outside"),
+            std::string::npos);
+  EXPECT_NE(error("cones:\n" + three + "boxes: []\n").find("unknown key 'boxes'"), std::string::npos);
+  EXPECT_NE(error("equilateral: {}\n").find("unknown key 'equilateral'"), std::string::npos);
+  EXPECT_NE(error("cones:\n" + three).find("the inventory has 2 cones"), std::string::npos);
+  // The layout's own rules are unchanged: a position is read, two cones at one place of one height refused.
+  EXPECT_NE(ErrorOf([&] {
+              ParseLayoutRoot(YAML::Load("cones:\n" + three + "  - {height_m: 0.46}\n"), "l.yaml", LayoutSchema());
+            }).find("is identical to cones[1]"),
             std::string::npos);
 }
 

@@ -1,6 +1,7 @@
 // The survey's inventory: the placed cones without positions, and which one is the origin of the
-// `cones` frame and which one marks +x. A layout file's `cones:` list of {height_m, style} (and
-// optionally tau; no positions, no scenery keys), plus two indices into it:
+// `cones` frame and which one marks +x. A layout file's `cones:` list of {height_m, style} (height_m
+// required; any other cone key of the layout schema, such as tau, except the positions x_m, y_m, z_m and
+// sigma_m; read by rig_model's layout parser, layout_yaml.h), no scenery, plus two indices into it:
 //
 //   cones:
 //     - {height_m: 0.91, style: road}

@@ -51,6 +51,7 @@ struct SurveyConfig {
   double robust_px = 2.0;             // Cauchy loss scale
   double gyro_noise_rad_s = 0.003;    // relative-rotation sigma = this x sqrt(dt) + 0.05 deg
   double gravity_sigma_deg = 2.0;     // the accelerometer's up direction per frame (walking accelerations)
+  double accel_noise_m_s2 = 0.5;      // the accelerometer's acceleration in the levelled frame (tilt, lever arm)
   double still_start_s = 1.0;         // the walk's first second, held still, gives the gyro bias
   double height_tolerance = 0.15;     // a found cone's height within this fraction of an inventory height
   int min_frames = 30;                // a cone seen in fewer adjusted frames is not constrained
@@ -62,7 +63,8 @@ struct SurveyConfig {
 
 struct SurveyedCone {
   rig_model::ConeSpec spec;                           // the inventory's cone at its surveyed position
-  Eigen::Vector3d sigma_m = Eigen::Vector3d::Zero();  // 1-sigma per axis (the adjustment's covariance)
+  Eigen::Vector3d sigma_m = Eigen::Vector3d::Zero();  // 1-sigma per axis (the adjustment's covariance x correlation)
+  double correlation_factor = 1.0;                    // its sightings' errors' integrated autocorrelation (bundle.cpp)
   int frames = 0;                                     // adjusted frames that saw it
   double view_spread_deg = 0.0;                       // arc of directions it was seen from
   double rms_px = 0.0;                                // its reprojection RMS
@@ -78,6 +80,7 @@ struct SurveyResult {
   int frames_adjusted = 0, observations = 0, tracks = 0;
   Eigen::Vector3d gyro_bias_rad_s = Eigen::Vector3d::Zero();  // IMU frame
   double base_offset_px = 0.0;     // the detected bases below the model's, along the cone's image axis
+  double scale_sigma = 0.0;        // the layout's scale's 1-sigma (fraction), in every cone's sigma_m
   std::vector<std::string> notes;  // what the user should know (no still start, ...)
 };
 

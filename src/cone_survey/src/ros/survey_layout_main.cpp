@@ -105,16 +105,19 @@ int main(int argc, char** argv) {
   }
   std::printf(
       "survey_layout: %d tracks, %d frames adjusted, %d observations; reprojection RMS %.2f px; detected bases %.2f px "
-      "below the model's\n",
-      r.tracks, r.frames_adjusted, r.observations, r.reprojection_rms_px, r.base_offset_px);
-  std::printf("  cone                      x_m      y_m      z_m   sigma_xyz_mm        frames  spread_deg  rms_px\n");
+      "below the model's; scale sigma %.2f %%\n",
+      r.tracks, r.frames_adjusted, r.observations, r.reprojection_rms_px, r.base_offset_px, 100.0 * r.scale_sigma);
+  std::printf(
+      "  cone                      x_m      y_m      z_m   sigma_xyz_mm        frames  spread_deg  rms_px  "
+      "correlation\n");
   std::vector<rig_model::ConeSpec> cones;
   std::vector<Eigen::Vector3d> sigmas;
   for (size_t i = 0; i < r.cones.size(); ++i) {
     const cone_survey::SurveyedCone& c = r.cones[i];
-    std::printf("  %-22s %8.3f %8.3f %8.3f   %4.1f %4.1f %4.1f   %6d  %10.0f  %6.2f\n",
+    std::printf("  %-22s %8.3f %8.3f %8.3f   %4.1f %4.1f %4.1f   %6d  %10.0f  %6.2f  %11.1f\n",
                 inventory.Name(static_cast<int>(i)).c_str(), c.spec.base_m.x(), c.spec.base_m.y(), c.spec.base_m.z(),
-                1e3 * c.sigma_m.x(), 1e3 * c.sigma_m.y(), 1e3 * c.sigma_m.z(), c.frames, c.view_spread_deg, c.rms_px);
+                1e3 * c.sigma_m.x(), 1e3 * c.sigma_m.y(), 1e3 * c.sigma_m.z(), c.frames, c.view_spread_deg, c.rms_px,
+                c.correlation_factor);
     cones.push_back(c.spec);
     sigmas.push_back(c.sigma_m);
   }
