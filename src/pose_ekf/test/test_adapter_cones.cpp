@@ -59,12 +59,13 @@ TEST(AdapterCones, NewParametersAndTheLayoutFileLoad) {
   const pose_ekf::NodeConfig c =
       pose_ekf::LoadConfigFile(Write("pose_ekf_cone_keys",
                                      "camera_update: pose\ncone_gate_probability: 0.999\ncone_joint_probability: 0.99\n"
-                                     "reacquire_sigma_p_m: 0.3\nlayout_file: " +
+                                     "reacquire_sigma_p_m: 0.3\nreacquire_min_cones: 3\nlayout_file: " +
                                          kDefaultLayout + "\n"));
   EXPECT_EQ(c.ekf.camera_update, pose_ekf::CameraUpdate::kPose);
   EXPECT_EQ(c.ekf.cone_gate_probability, 0.999);
   EXPECT_EQ(c.ekf.cone_joint_probability, 0.99);
   EXPECT_EQ(c.ekf.reacquire_sigma_p_m, 0.3);
+  EXPECT_EQ(c.ekf.reacquire_min_cones, 3);
   ASSERT_EQ(c.layout_cones.size(), 3u);
   const auto expected = pose_ekf::ConeGeometries(rig_model::DefaultLayout());
   for (size_t i = 0; i < 3; ++i) {
@@ -94,6 +95,7 @@ TEST(AdapterCones, BadLayoutFileOrValuesAreRefusedNamingThem) {
   EXPECT_NE(message("camera_update: both\n").find("camera_update"), std::string::npos);
   EXPECT_NE(message("cone_gate_probability: 0\n").find("cone_gate_probability"), std::string::npos);
   EXPECT_NE(message("reacquire_sigma_p_m: -1\n").find("reacquire_sigma_p_m"), std::string::npos);
+  EXPECT_NE(message("reacquire_min_cones: 0\n").find("reacquire_min_cones"), std::string::npos);
 }
 
 // A tracking adapter: initialised from the rig's first pose, then one IMU sample.

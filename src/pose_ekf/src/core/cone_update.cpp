@@ -142,7 +142,7 @@ double EkfCore::cone_joint_chi2(int cones) const {
 // every cone is linearised at the state the previous cones corrected. The joint NIS of the frame is
 // the sum of the sequential NIS values (p(z1, z2) = p(z1) p(z2 | z1)), so the frame check costs
 // nothing extra; it needs a rollback, hence the copy of the state.
-UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out) {
+UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int min_cones) {
   ConeFrameResult res;
   if (!config_.use_camera) return UpdateResult::kDisabled;
   if (!initialized_ || f.cones.empty()) return UpdateResult::kDisabled;
@@ -179,6 +179,10 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out) {
   // cone that disagreed most with the prior and try again (a wrong association that passed alone).
   UpdateResult result = UpdateResult::kGated;
   while (!candidates.empty()) {
+    if (static_cast<int>(candidates.size()) < min_cones) {
+      res.too_few = static_cast<int>(candidates.size());  // re-acquiring: no fewer than min_cones together
+      break;
+    }
     s_ = prior;
     double nis_sum = 0.0;
     int failed = -1;
@@ -214,7 +218,7 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out) {
   if (result != UpdateResult::kApplied) {
     s_ = prior;
     // A cone the prediction puts behind the camera disagrees with it, like a gated one.
-    if (res.gated + res.joint_dropped + res.behind_camera == 0) result = UpdateResult::kNumericalFailure;
+    if (res.gated + res.joint_dropped + res.behind_camera + res.too_few == 0) result = UpdateResult::kNumericalFailure;
   }
   if (out) *out = res;
   return result;

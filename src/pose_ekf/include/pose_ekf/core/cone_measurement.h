@@ -90,6 +90,7 @@ struct ConeFrameResult {
   int joint_dropped = 0;  // cones dropped because the frame's joint NIS failed
   int behind_camera = 0;  // a model point not in front of the predicted camera
   int numerical = 0;      // S not positive definite
+  int too_few = 0;        // cones that passed but were fewer than min_cones (re-acquisition): not fused
   double nis = 0.0;       // the fused cones' joint NIS (the sum of the sequential ones)
   double joint_threshold = 0.0;
   double worst_gate_chi2 = 0.0;  // the largest per-cone statistic of the frame

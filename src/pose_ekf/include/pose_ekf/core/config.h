@@ -81,6 +81,11 @@ struct EkfConfig {
   double cone_gate_probability = 0.9999;   // per cone: yᵀ S⁻¹ y against chi2(4) at this probability; 1 = off
   double cone_joint_probability = 0.9999;  // per frame: the fused cones' NIS sum against chi2(4 k); 1 = off
   double reacquire_sigma_p_m = 0.5;        // largest position sigma before a pose re-initialises; 0 = never
+  // While re-acquiring (the same test: position sigma above reacquire_sigma_p_m, or
+  // reinit_after_rejections cone frames rejected in a row) a cone frame is fused only if at least this
+  // many of its cones pass the gates together: after a long outage the filter's prediction cannot tell
+  // which layout cone a lone detection is (README, "Re-acquisition"); two or more are checked jointly.
+  int reacquire_min_cones = 2;
 
   // Options beyond the thesis.
   QuatIntegration quat_integration = QuatIntegration::kFirstOrder;
