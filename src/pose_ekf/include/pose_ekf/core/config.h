@@ -75,8 +75,8 @@ struct EkfConfig {
   // observations is fused as with kPose; poses still initialise the filter, and re-initialise it
   // (MeasurementBuffer) after reinit_after_rejections rejected cone frames in a row or when the
   // position sigma exceeds reacquire_sigma_p_m. kPose: observations are ignored.
-  // The default is kPose, the thesis's path: kCones is better on rig_sim's 512x384 replays but stays
-  // off after a long outage in the 256x192 look_away system test (README, "Status"), so it is opt-in.
+  // The core's default is kPose, the thesis's path; rig_sim's configuration uses kCones (README,
+  // "Re-acquisition": measured on rig_sim, not yet on a real bag with truth).
   CameraUpdate camera_update = CameraUpdate::kPose;
   double cone_gate_probability = 0.9999;   // per cone: yᵀ S⁻¹ y against chi2(4) at this probability; 1 = off
   double cone_joint_probability = 0.9999;  // per frame: the fused cones' NIS sum against chi2(4 k); 1 = off
