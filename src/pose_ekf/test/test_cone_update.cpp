@@ -364,6 +364,7 @@ TEST(ConeBuffer, ReacquiringNeedsTwoConesTogether) {
   const auto run = [](int min_cones) {
     EkfConfig c = SimConfig();
     c.reacquire_min_cones = min_cones;
+    c.cone_ambiguity_margin = 0.0;  // this rule alone (the ambiguity test: below)
     MeasurementBuffer b(c);
     const pose_math::Pose T = StartTruth();
     std::mt19937 rng(7);
@@ -411,6 +412,38 @@ TEST(ConeBuffer, ReacquiringNeedsTwoConesTogether) {
   // Fused, it shrinks the position sigma to millimetres around the wrong place, and the two right cones
   // that follow no longer pull it back (0.34 m against 0.07 m when this was written).
   EXPECT_GT(one.end_m, 3.0 * two.end_m);
+}
+
+// The filter's own check of a lone cone's id: with the position sigma of a long outage (1.5 m per axis,
+// look_away seed 4 after 7 s) another layout cone fits the same pixels nearly as well (ambiguous, not
+// fused); at a tracked filter's sigma none does, and every lone cone of the runs above was fused. The
+// rival is tested on the filter's linearisation (as the gate), so the layout here has a second cone
+// 0.4 m beside cone 1, a shift the linearisation holds (a rival 1.5 m away is judged, too strictly,
+// by its first-order shape change: README, "Re-acquisition").
+TEST(ConeGates, ALoneConeAnotherLayoutConeFitsIsNotFused) {
+  const auto run = [](double margin, double sigma_p_m, ConeFrameResult* r) {
+    EkfConfig c = SimConfig();
+    c.cone_ambiguity_margin = margin;
+    EkfCore ekf = Tight(c);
+    pose_ekf::FilterState s = ekf.state();
+    s.P.block<3, 3>(pose_ekf::kP, pose_ekf::kP) = sigma_p_m * sigma_p_m * Eigen::Matrix3d::Identity();
+    ekf.Restore(s);
+    std::mt19937 rng(11);
+    std::vector<pose_ekf::ConeGeometry> layout = DefaultCones();
+    layout.push_back(layout[1]);
+    layout.back().base_m += Eigen::Vector3d(0.0, 0.4, 0.0);
+    const UpdateResult u =
+        ekf.UpdateCones(ObserveCones(0.0, StartTruth(), layout, {1}, DefaultIntrinsics(), 1.0, &rng), r);
+    std::printf("[ cones ] lone cone, position sigma %.2f m, margin %.0f: %s\n", sigma_p_m, margin, ToString(u));
+    return u;
+  };
+  ConeFrameResult r;
+  EXPECT_EQ(run(9.0, 0.02, &r), UpdateResult::kApplied);
+  EXPECT_EQ(r.ambiguous, 0);
+  EXPECT_EQ(run(9.0, 1.5, &r), UpdateResult::kGated);
+  EXPECT_EQ(r.ambiguous, 1);
+  EXPECT_EQ(run(0.0, 1.5, &r), UpdateResult::kApplied);  // the test off
+  EXPECT_EQ(r.ambiguous, 0);
 }
 
 // Monte Carlo NEES (as test_accuracy's Consistency test) with the camera as per-cone updates only,

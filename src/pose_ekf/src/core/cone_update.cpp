@@ -175,6 +175,25 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
     }
     candidates.push_back(static_cast<int>(i));
   }
+  // 1b. A lone cone whose pixels another layout cone explains nearly as well (within
+  // cone_ambiguity_margin of its own statistic, on the same S) is not fused: with the position
+  // sigma of a long outage one detection may be any cone (README, "Re-acquisition").
+  if (f.cones.size() == 1 && candidates.size() == 1 && config_.cone_ambiguity_margin > 0.0) {
+    const ConeObservation& o = f.cones[0];
+    const ConeVector z = ConePixels(o);
+    const ConeMatrix Rn = ConeCovariance(o);
+    for (size_t j = 0; j < f.layout.size() && !candidates.empty(); ++j) {
+      if (static_cast<int>(j) == o.cone_id || !ProjectCone(s_.x, f.layout[j], f.K, &h, &H)) continue;
+      const ConeVector y = z - h;
+      const ConeMatrix S = H * s_.P * H.transpose() + Rn;
+      const Eigen::LDLT<ConeMatrix> ldlt(0.5 * (S + S.transpose()));
+      if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0)) continue;
+      if (y.dot(ldlt.solve(y)) - d2[0] < config_.cone_ambiguity_margin) {
+        res.ambiguous = 1;
+        candidates.clear();
+      }
+    }
+  }
   // 2. The remaining cones in sequence; the frame's joint NIS against chi2(4 k), else drop the
   // cone that disagreed most with the prior and try again (a wrong association that passed alone).
   UpdateResult result = UpdateResult::kGated;
@@ -218,7 +237,8 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
   if (result != UpdateResult::kApplied) {
     s_ = prior;
     // A cone the prediction puts behind the camera disagrees with it, like a gated one.
-    if (res.gated + res.joint_dropped + res.behind_camera + res.too_few == 0) result = UpdateResult::kNumericalFailure;
+    if (res.gated + res.joint_dropped + res.behind_camera + res.too_few + res.ambiguous == 0)
+      result = UpdateResult::kNumericalFailure;
   }
   if (out) *out = res;
   return result;

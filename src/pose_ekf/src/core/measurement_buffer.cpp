@@ -354,6 +354,7 @@ void MeasurementBuffer::TallyCones(UpdateResult r, const ConeFrameResult& res) {
   } else if (r == UpdateResult::kGated) {
     ++counters_.cone_frames_rejected;
     if (res.too_few > 0) ++counters_.cone_frames_too_few;
+    if (res.ambiguous > 0) ++counters_.cone_frames_ambiguous;
   } else if (r == UpdateResult::kNumericalFailure) {
     ++counters_.numerical_failures;
   } else if (r == UpdateResult::kRejectedNonFinite) {

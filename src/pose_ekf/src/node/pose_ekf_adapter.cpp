@@ -122,6 +122,7 @@ ConversionResult ConeFrameFromMsg(const cone_tracker::ConeObservations& msg, con
     return finite_k ? ConversionResult::kInvalid : ConversionResult::kNonFinite;
   }
   out->cones.clear();
+  out->layout = layout;
   static const char* const kPoints[kConePoints] = {"peak", "mid", "base"};
   for (size_t i = 0; i < msg.cones.size(); ++i) {
     const cone_tracker::ConeObservation& m = msg.cones[i];

@@ -85,7 +85,12 @@ struct EkfConfig {
   // reinit_after_rejections cone frames rejected in a row) a cone frame is fused only if at least this
   // many of its cones pass the gates together: after a long outage the filter's prediction cannot tell
   // which layout cone a lone detection is (README, "Re-acquisition"); two or more are checked jointly.
-  int reacquire_min_cones = 2;
+  int reacquire_min_cones = 1;
+  // A frame with one cone is not fused when another layout cone (ConeFrame::layout) fits its pixels
+  // within this much (chi-square, 4 dof, the filter's own S) of the cone it was associated with: the
+  // filter's own check of the tracker's association, scaled by its covariance (README,
+  // "Re-acquisition"). 0 = off.
+  double cone_ambiguity_margin = 9.0;
 
   // Options beyond the thesis.
   QuatIntegration quat_integration = QuatIntegration::kFirstOrder;
