@@ -141,6 +141,14 @@ TEST(AdapterCones, GoodObservationsAreFused) {
   EXPECT_TRUE(why.empty()) << why;
   EXPECT_EQ(t.adapter.buffer().counters().cones_applied, 3u);
   EXPECT_EQ(t.adapter.buffer().counters().cone_frames_applied, 1u);
+  // The frame carries the whole layout, for the filter's lone-cone ambiguity test.
+  pose_ekf::ConeFrame f;
+  int nan = 0, invalid = 0;
+  ASSERT_EQ(pose_ekf::ConeFrameFromMsg(t.Frame(2), t.adapter.config().camera_frame, t.adapter.config().layout_cones, &f,
+                                       &why, &nan, &invalid),
+            pose_ekf::ConversionResult::kOk)
+      << why;
+  EXPECT_EQ(f.layout.size(), t.adapter.config().layout_cones.size());
 }
 
 TEST(AdapterCones, BadConesAreLeftOutCountedAndNamed) {
