@@ -195,6 +195,23 @@ TEST(AdapterCones, BadIntrinsicsFrameOrNoLayoutRefuseTheMessage) {
   EXPECT_NE(why.find("~layout_file is not set"), std::string::npos) << why;
 }
 
+// A lone cone not fused by the re-acquisition rules: the warning says which rule, not "no cone passed the gates".
+TEST(AdapterCones, ALoneConeNotFusedWhileReacquiringSaysWhy) {
+  Tracking t;
+  cone_tracker::ConeObservations lone = t.Frame(1);
+  lone.cones.resize(1);
+  pose_ekf::NodeConfig c = WithLayout();
+  c.ekf.reacquire_sigma_p_m = 1e-6;  // re-acquisition is due from the start
+  c.ekf.reacquire_min_cones = 2;
+  pose_ekf::PoseEkfAdapter a{c};
+  std::string why;
+  ASSERT_EQ(a.HandleCamera(CameraMsg(t.events[0].camera), &why), AddResult::kInitialized) << why;
+  why.clear();
+  EXPECT_EQ(a.HandleObservations(lone, &why), AddResult::kGated);
+  EXPECT_NE(why.find("fewer than reacquire_min_cones"), std::string::npos) << why;
+  EXPECT_EQ(a.buffer().counters().cone_frames_too_few, 1u);
+}
+
 TEST(AdapterCones, StampsOlderThanTheBufferAreDroppedAndCounted) {
   Tracking t;
   std::string why;
