@@ -59,12 +59,13 @@ TEST(AdapterCones, NewParametersAndTheLayoutFileLoad) {
   const pose_ekf::NodeConfig c =
       pose_ekf::LoadConfigFile(Write("pose_ekf_cone_keys",
                                      "camera_update: pose\ncone_gate_probability: 0.999\ncone_joint_probability: 0.99\n"
-                                     "reacquire_sigma_p_m: 0.3\nlayout_file: " +
+                                     "reacquire_sigma_p_m: 0.3\nreacquire_min_cones: 3\nlayout_file: " +
                                          kDefaultLayout + "\n"));
   EXPECT_EQ(c.ekf.camera_update, pose_ekf::CameraUpdate::kPose);
   EXPECT_EQ(c.ekf.cone_gate_probability, 0.999);
   EXPECT_EQ(c.ekf.cone_joint_probability, 0.99);
   EXPECT_EQ(c.ekf.reacquire_sigma_p_m, 0.3);
+  EXPECT_EQ(c.ekf.reacquire_min_cones, 3);
   ASSERT_EQ(c.layout_cones.size(), 3u);
   const auto expected = pose_ekf::ConeGeometries(rig_model::DefaultLayout());
   for (size_t i = 0; i < 3; ++i) {
@@ -94,6 +95,7 @@ TEST(AdapterCones, BadLayoutFileOrValuesAreRefusedNamingThem) {
   EXPECT_NE(message("camera_update: both\n").find("camera_update"), std::string::npos);
   EXPECT_NE(message("cone_gate_probability: 0\n").find("cone_gate_probability"), std::string::npos);
   EXPECT_NE(message("reacquire_sigma_p_m: -1\n").find("reacquire_sigma_p_m"), std::string::npos);
+  EXPECT_NE(message("reacquire_min_cones: 0\n").find("reacquire_min_cones"), std::string::npos);
 }
 
 // A tracking adapter: initialised from the rig's first pose, then one IMU sample.
@@ -139,6 +141,14 @@ TEST(AdapterCones, GoodObservationsAreFused) {
   EXPECT_TRUE(why.empty()) << why;
   EXPECT_EQ(t.adapter.buffer().counters().cones_applied, 3u);
   EXPECT_EQ(t.adapter.buffer().counters().cone_frames_applied, 1u);
+  // The frame carries the whole layout, for the filter's lone-cone ambiguity test.
+  pose_ekf::ConeFrame f;
+  int nan = 0, invalid = 0;
+  ASSERT_EQ(pose_ekf::ConeFrameFromMsg(t.Frame(2), t.adapter.config().camera_frame, t.adapter.config().layout_cones, &f,
+                                       &why, &nan, &invalid),
+            pose_ekf::ConversionResult::kOk)
+      << why;
+  EXPECT_EQ(f.layout.size(), t.adapter.config().layout_cones.size());
 }
 
 TEST(AdapterCones, BadConesAreLeftOutCountedAndNamed) {
@@ -183,6 +193,23 @@ TEST(AdapterCones, BadIntrinsicsFrameOrNoLayoutRefuseTheMessage) {
   pose_ekf::PoseEkfAdapter no_layout{pose_ekf::NodeConfig{}};
   EXPECT_EQ(no_layout.HandleObservations(t.Frame(1), &why), AddResult::kRejectedInvalid);
   EXPECT_NE(why.find("~layout_file is not set"), std::string::npos) << why;
+}
+
+// A lone cone not fused by the re-acquisition rules: the warning says which rule, not "no cone passed the gates".
+TEST(AdapterCones, ALoneConeNotFusedWhileReacquiringSaysWhy) {
+  Tracking t;
+  cone_tracker::ConeObservations lone = t.Frame(1);
+  lone.cones.resize(1);
+  pose_ekf::NodeConfig c = WithLayout();
+  c.ekf.reacquire_sigma_p_m = 1e-6;  // re-acquisition is due from the start
+  c.ekf.reacquire_min_cones = 2;
+  pose_ekf::PoseEkfAdapter a{c};
+  std::string why;
+  ASSERT_EQ(a.HandleCamera(CameraMsg(t.events[0].camera), &why), AddResult::kInitialized) << why;
+  why.clear();
+  EXPECT_EQ(a.HandleObservations(lone, &why), AddResult::kGated);
+  EXPECT_NE(why.find("fewer than reacquire_min_cones"), std::string::npos) << why;
+  EXPECT_EQ(a.buffer().counters().cone_frames_too_few, 1u);
 }
 
 TEST(AdapterCones, StampsOlderThanTheBufferAreDroppedAndCounted) {

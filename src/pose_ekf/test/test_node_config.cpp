@@ -79,6 +79,8 @@ TEST(NodeConfig, TheTableHasEveryParameterTheLoaderRead) {
                                        "cone_gate_probability",
                                        "cone_joint_probability",
                                        "reacquire_sigma_p_m",
+                                       "reacquire_min_cones",
+                                       "cone_ambiguity_margin",
                                        "layout_file",
                                        "model_lever_arm",
                                        "alpha_from_gyro",

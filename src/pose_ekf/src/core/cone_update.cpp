@@ -142,7 +142,7 @@ double EkfCore::cone_joint_chi2(int cones) const {
 // every cone is linearised at the state the previous cones corrected. The joint NIS of the frame is
 // the sum of the sequential NIS values (p(z1, z2) = p(z1) p(z2 | z1)), so the frame check costs
 // nothing extra; it needs a rollback, hence the copy of the state.
-UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out) {
+UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int min_cones) {
   ConeFrameResult res;
   if (!config_.use_camera) return UpdateResult::kDisabled;
   if (!initialized_ || f.cones.empty()) return UpdateResult::kDisabled;
@@ -175,10 +175,33 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out) {
     }
     candidates.push_back(static_cast<int>(i));
   }
+  // 1b. A lone cone whose pixels another layout cone explains nearly as well (within
+  // cone_ambiguity_margin of its own statistic, on the same S) is not fused: with the position
+  // sigma of a long outage one detection may be any cone (README, "Re-acquisition").
+  if (f.cones.size() == 1 && candidates.size() == 1 && config_.cone_ambiguity_margin > 0.0) {
+    const ConeObservation& o = f.cones[0];
+    const ConeVector z = ConePixels(o);
+    const ConeMatrix Rn = ConeCovariance(o);
+    for (size_t j = 0; j < f.layout.size() && !candidates.empty(); ++j) {
+      if (static_cast<int>(j) == o.cone_id || !ProjectCone(s_.x, f.layout[j], f.K, &h, &H)) continue;
+      const ConeVector y = z - h;
+      const ConeMatrix S = H * s_.P * H.transpose() + Rn;
+      const Eigen::LDLT<ConeMatrix> ldlt(0.5 * (S + S.transpose()));
+      if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0)) continue;
+      if (y.dot(ldlt.solve(y)) - d2[0] < config_.cone_ambiguity_margin) {
+        res.ambiguous = 1;
+        candidates.clear();
+      }
+    }
+  }
   // 2. The remaining cones in sequence; the frame's joint NIS against chi2(4 k), else drop the
   // cone that disagreed most with the prior and try again (a wrong association that passed alone).
   UpdateResult result = UpdateResult::kGated;
   while (!candidates.empty()) {
+    if (static_cast<int>(candidates.size()) < min_cones) {
+      res.too_few = static_cast<int>(candidates.size());  // re-acquiring: no fewer than min_cones together
+      break;
+    }
     s_ = prior;
     double nis_sum = 0.0;
     int failed = -1;
@@ -214,7 +237,8 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out) {
   if (result != UpdateResult::kApplied) {
     s_ = prior;
     // A cone the prediction puts behind the camera disagrees with it, like a gated one.
-    if (res.gated + res.joint_dropped + res.behind_camera == 0) result = UpdateResult::kNumericalFailure;
+    if (res.gated + res.joint_dropped + res.behind_camera + res.too_few + res.ambiguous == 0)
+      result = UpdateResult::kNumericalFailure;
   }
   if (out) *out = res;
   return result;

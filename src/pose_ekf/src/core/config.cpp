@@ -57,6 +57,11 @@ std::string EkfConfig::Validate() const {
     err << "cone_joint_probability must be in (0, 1], 1 disables the check (got " << cone_joint_probability << "); ";
   }
   Check(err, "reacquire_sigma_p_m", reacquire_sigma_p_m, 0.0, true);
+  Check(err, "cone_ambiguity_margin", cone_ambiguity_margin, 0.0, true);
+  if (reacquire_min_cones < 1) {
+    err << "reacquire_min_cones must be >= 1, 1 fuses lone cones while re-acquiring (got " << reacquire_min_cones
+        << "); ";
+  }
   std::string problems = err.str();
   if (!problems.empty()) problems.resize(problems.size() - 2);  // every problem ends with "; "
   return problems;

@@ -312,7 +312,8 @@ UpdateResult MeasurementBuffer::Apply(Entry& e, bool count) {
   };
   if (e.is_cones) {
     ConeFrameResult res;
-    const UpdateResult r = ekf_.UpdateCones(e.cones, &res);
+    // Re-acquiring, a lone cone may be any layout cone the drifted prediction lets through (README).
+    const UpdateResult r = ekf_.UpdateCones(e.cones, &res, ReacquireDue() ? config_.reacquire_min_cones : 1);
     if (count) TallyCones(r, res);
     return r;
   }
@@ -352,6 +353,8 @@ void MeasurementBuffer::TallyCones(UpdateResult r, const ConeFrameResult& res) {
     counters_.cone_nis_last = res.nis;
   } else if (r == UpdateResult::kGated) {
     ++counters_.cone_frames_rejected;
+    if (res.too_few > 0) ++counters_.cone_frames_too_few;
+    if (res.ambiguous > 0) ++counters_.cone_frames_ambiguous;
   } else if (r == UpdateResult::kNumericalFailure) {
     ++counters_.numerical_failures;
   } else if (r == UpdateResult::kRejectedNonFinite) {

@@ -122,6 +122,7 @@ ConversionResult ConeFrameFromMsg(const cone_tracker::ConeObservations& msg, con
     return finite_k ? ConversionResult::kInvalid : ConversionResult::kNonFinite;
   }
   out->cones.clear();
+  out->layout = layout;
   static const char* const kPoints[kConePoints] = {"peak", "mid", "base"};
   for (size_t i = 0; i < msg.cones.size(); ++i) {
     const cone_tracker::ConeObservation& m = msg.cones[i];
@@ -244,10 +245,17 @@ AddResult PoseEkfAdapter::HandleObservations(const cone_tracker::ConeObservation
   if (r == AddResult::kDroppedLate) *why = topic + ": observations older than max_delay_s (or the filter's start)";
   if (r == AddResult::kGated) {
     const BufferCounters& n = buffer_.counters();
+    const ConeFrameResult& last = buffer_.last_cone_frame();
     std::ostringstream s;
-    s << topic << ": no cone of the frame passed the chi-square gates (largest per-cone statistic "
-      << n.cone_last_rejected_chi2 << ", threshold " << buffer_.filter().cone_gate_chi2() << ", " << kConeDof
-      << " dof)";
+    if (last.ambiguous > 0) {
+      s << topic << ": a lone cone that another layout cone fits within cone_ambiguity_margin: not fused";
+    } else if (last.too_few > 0) {
+      s << topic << ": re-acquiring, " << last.too_few << " cone(s) passed, fewer than reacquire_min_cones: not fused";
+    } else {
+      s << topic << ": no cone of the frame passed the chi-square gates (largest per-cone statistic "
+        << n.cone_last_rejected_chi2 << ", threshold " << buffer_.filter().cone_gate_chi2() << ", " << kConeDof
+        << " dof)";
+    }
     if (buffer_.ReacquireDue()) s << "; the next camera pose re-initialises the filter";
     *why = s.str();
   }

@@ -37,6 +37,7 @@ pose_ekf::ConeFrame ObserveCones(double stamp_s, const pose_math::Pose& T,
   pose_ekf::ConeFrame f;
   f.stamp_s = stamp_s;
   f.K = K;
+  f.layout = layout;  // as the adapter sets it: the lone-cone ambiguity test sees every layout cone
   std::normal_distribution<double> noise(0.0, sigma_px);
   const pose_ekf::StateVector x = StateAt(T);
   for (int id : cones) {

@@ -63,6 +63,9 @@ struct ConeFrame {
   double stamp_s = 0.0;
   PinholeIntrinsics K;
   std::vector<ConeObservation> cones;
+  // Every layout cone (index = cone_id), for the lone-cone ambiguity test (EkfConfig::cone_ambiguity_margin);
+  // empty: not tested.
+  std::vector<ConeGeometry> layout;
 };
 
 // "" when the frame can be fused (finite stamp and pixels, fx, fy > 0, symmetric positive definite
@@ -90,6 +93,8 @@ struct ConeFrameResult {
   int joint_dropped = 0;  // cones dropped because the frame's joint NIS failed
   int behind_camera = 0;  // a model point not in front of the predicted camera
   int numerical = 0;      // S not positive definite
+  int too_few = 0;        // cones that passed but were fewer than min_cones (re-acquisition): not fused
+  int ambiguous = 0;      // a lone cone that another layout cone explains nearly as well: not fused
   double nis = 0.0;       // the fused cones' joint NIS (the sum of the sequential ones)
   double joint_threshold = 0.0;
   double worst_gate_chi2 = 0.0;  // the largest per-cone statistic of the frame

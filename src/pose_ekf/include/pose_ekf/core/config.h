@@ -75,12 +75,22 @@ struct EkfConfig {
   // observations is fused as with kPose; poses still initialise the filter, and re-initialise it
   // (MeasurementBuffer) after reinit_after_rejections rejected cone frames in a row or when the
   // position sigma exceeds reacquire_sigma_p_m. kPose: observations are ignored.
-  // The default is kPose, the thesis's path: kCones is better on rig_sim's 512x384 replays but stays
-  // off after a long outage in the 256x192 look_away system test (README, "Status"), so it is opt-in.
+  // The core's default is kPose, the thesis's path; rig_sim's configuration uses kCones (README,
+  // "Re-acquisition": measured on rig_sim, not yet on a real bag with truth).
   CameraUpdate camera_update = CameraUpdate::kPose;
   double cone_gate_probability = 0.9999;   // per cone: yᵀ S⁻¹ y against chi2(4) at this probability; 1 = off
   double cone_joint_probability = 0.9999;  // per frame: the fused cones' NIS sum against chi2(4 k); 1 = off
   double reacquire_sigma_p_m = 0.5;        // largest position sigma before a pose re-initialises; 0 = never
+  // While re-acquiring (the same test: position sigma above reacquire_sigma_p_m, or
+  // reinit_after_rejections cone frames rejected in a row) a cone frame is fused only if at least this
+  // many of its cones pass the gates together: after a long outage the filter's prediction cannot tell
+  // which layout cone a lone detection is (README, "Re-acquisition"); two or more are checked jointly.
+  int reacquire_min_cones = 1;
+  // A frame with one cone is not fused when another layout cone (ConeFrame::layout) fits its pixels
+  // within this much (chi-square, 4 dof, the filter's own S) of the cone it was associated with: the
+  // filter's own check of the tracker's association, scaled by its covariance (README,
+  // "Re-acquisition"). 0 = off.
+  double cone_ambiguity_margin = 9.0;
 
   // Options beyond the thesis.
   QuatIntegration quat_integration = QuatIntegration::kFirstOrder;

@@ -66,9 +66,10 @@ class EkfCore {
   // The tightly coupled camera update (cone_measurement.h, cone_update.cpp): the frame's cones in
   // sequence, each gated on yᵀ S⁻¹ y against chi2(6) at cone_gate_probability, then the fused
   // cones' joint NIS against chi2(6 k) at cone_joint_probability (the worst cone is dropped and the
-  // rest retried). kApplied if at least one cone was fused, kGated if the gates (or a prediction
-  // behind the camera) left none; the state is unchanged unless kApplied.
-  UpdateResult UpdateCones(const ConeFrame& f, ConeFrameResult* result = nullptr);
+  // rest retried). kApplied if at least min_cones cones were fused together, kGated if the gates (or a
+  // prediction behind the camera) left fewer; the state is unchanged unless kApplied. min_cones > 1 is
+  // re-acquisition (MeasurementBuffer, EkfConfig::reacquire_min_cones): a lone cone is not trusted then.
+  UpdateResult UpdateCones(const ConeFrame& f, ConeFrameResult* result = nullptr, int min_cones = 1);
   double cone_gate_chi2() const { return cone_gate_chi2_; }
   double cone_joint_chi2(int cones) const;
 

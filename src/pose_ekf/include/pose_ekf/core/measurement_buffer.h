@@ -56,6 +56,8 @@ struct BufferCounters {
   uint64_t cone_frames_superseded = 0;          // their image's pose (re-)initialised the filter
   uint64_t poses_superseded = 0;                // poses not fused because their image's cones were
   uint64_t reacquisitions = 0;                  // poses that re-initialised the filter in cones mode (also in reinits)
+  uint64_t cone_frames_too_few = 0;             // re-acquiring: fewer than reacquire_min_cones cones passed, none fused
+  uint64_t cone_frames_ambiguous = 0;           // a lone cone another layout cone fits nearly as well: not fused
   uint64_t cone_nis_count = 0;
   double cone_nis_sum = 0.0, cone_nis_last = 0.0;  // the joint NIS of a fused frame
 };
