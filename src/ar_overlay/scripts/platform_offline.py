@@ -151,20 +151,13 @@ def summarise(t, e_px, err_m, m_per_px):
                 median_mm=1000 * float(np.median(np.where(np.isfinite(err_m), err_m, 1e3))) if len(t) else np.nan)
 
 
-def layout_cones(rec, layout_path):
-    """(N, 2, 3) true [peak, base] per cone: rig_sim/cones from the bag, else the layout's equilateral
-    construction (rig_model's: the centroid at the origin, cone 1 on +x)."""
-    if rec.cones is not None and len(rec.cones):
-        return rec.cones
-    from rig_model.strict_yaml import load_yaml_file
-    eq = (load_yaml_file(layout_path) or {}).get("equilateral")
-    if not eq:
-        raise SystemExit("platform_offline: %s: no rig_sim/cones in the bag and no equilateral: in the layout; "
-                         "cannot tell which cones the true camera saw" % layout_path)
-    r = float(eq["side_m"]) / np.sqrt(3.0)
-    a = np.radians([0.0, 120.0, 240.0])
-    xy = np.stack([r * np.cos(a), r * np.sin(a)], axis=1)
-    return np.stack([np.c_[xy, np.full(3, float(eq["height_m"]))], np.c_[xy, np.zeros(3)]], axis=1)
+def layout_cones(rec, bag_path):
+    """(N, 2, 3) true [peak, base] per cone, from the bag's rig_sim/cones (the layout is parsed only by
+    rig_model, so the script does not read the layout's keys itself)."""
+    if rec.cones is None or not len(rec.cones):
+        raise SystemExit("platform_offline: %s: no rig_sim/cones in the bag; cannot tell which cones the true "
+                         "camera saw (record rig_sim/cones with the run)" % bag_path)
+    return rec.cones
 
 
 AGE_SPANS = ((0.0, 0.1, "pose < 0.1 s old"), (0.1, 1.0, "0.1-1 s"), (1.0, 2.0, "1-2 s"), (2.0, np.inf, "> 2 s"))
@@ -257,7 +250,7 @@ def main(argv):
     print()
     print("| run | " + " | ".join(label for _, label in visibility.CLASSES) + " |")
     print("|---" * (len(visibility.CLASSES) + 1) + "|")
-    cones = layout_cones(rec, a.layout)
+    cones = layout_cones(rec, a.bag)
     counts = visibility.cones_in_view(cones, *rec.truth.interpolate(rec.image_t)[1:], rec.camera_info,
                                       project=evaluation.project)
     for name, (t, e_px, err_m, m_per_px) in scored:
