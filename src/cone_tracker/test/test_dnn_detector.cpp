@@ -219,6 +219,11 @@ TEST(DnnDetector, FindsTheConesOfTheDevelopmentPhotos) {
     if (e->d_name[0] != '.') names.push_back(e->d_name);
   closedir(d);
   ASSERT_GT(names.size(), 300u);
+  // Every 4th photo by name (100 of 399): two network passes a photo, the whole set takes ~50 s of
+  // `make test`; the whole set is `make eval-photos`'s (README, "Learned detector for photos").
+  std::sort(names.begin(), names.end());
+  for (size_t k = 0; k < names.size(); k += 4) names[k / 4] = names[k];
+  names.resize((names.size() + 3) / 4);
   int tp = 0, fp = 0, fn = 0, box_points = 0;
   for (const std::string& name : names) {
     const cv::Mat bgr = cv::imread(dir + "/images/" + name, cv::IMREAD_COLOR);
