@@ -31,6 +31,7 @@ set(_WS_UNITY_SKIP
   "cone_tracker src/node/tracker_observations.cpp"  # Set2(), as in tracker_adapter.cpp
   "cone_tracker test/test_null_space.cpp"           # kExact, as in test_classic.cpp
   "cone_tracker test/test_refinement.cpp"           # View(frame), as in test_segmenter.cpp (ambiguous)
+  "cone_tracker test/test_associate.cpp"            # LookAt() giving a Pose; vision_frames.h's gives a TruePose
 )
 
 function(_ws_apply_unity_skips)
