@@ -11,8 +11,9 @@
 # Ceres, roscpp, gtest) are parsed, and their templates instantiated, once per batch instead of once
 # per file. The price: the sources of one target share a translation unit, so two of them must not
 # define the same file-local name (anonymous namespace or static). If they do, the build stops with
-# "redefinition of '<name>'" (or "conflicting declaration"), the note "In file included from
-# .../Unity/unity_<n>_cxx.cxx" naming the batch. Fix it by giving the names unique names, by sharing
+# "redefinition of '<name>'" (or "conflicting declaration", or "call of overloaded '<name>' is
+# ambiguous" when a file-local function meets a header's of the same name), the note "In file included
+# from .../Unity/unity_<n>_cxx.cxx" naming the batch. Fix it by giving the names unique names, by sharing
 # one definition from a header, or by listing the source below (it then compiles on its own).
 # A developer who prefers one object per file (faster single-file rebuilds) configures with
 # -DWS_UNITY_BUILD=OFF.
