@@ -5,7 +5,7 @@ ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
 WS := $(ROOT)/catkin_ws
 # catkin needs the system Python (a pyenv python3 without catkin_pkg may shadow it).
 export PATH := /usr/bin:$(PATH)
-# cmake/workspace.cmake: ctest's test locks and costs for every package (included after each project()).
+# cmake/workspace.cmake: unity builds and ctest's test locks and costs for every package (included after each project()).
 CATKIN_CMD := cd $(WS) && catkin_make -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 \
   -DCMAKE_PROJECT_INCLUDE=$(ROOT)/cmake/workspace.cmake
 CATKIN := $(CATKIN_CMD) -j2

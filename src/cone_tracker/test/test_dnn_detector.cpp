@@ -178,8 +178,9 @@ std::vector<Box> Labels(const std::string& file, int width, int height) {
 double Iou(const Box& a, const Box& b) { return BoxIou({a.x, a.y, a.w, a.h, 0}, {b.x, b.y, b.w, b.h, 0}); }
 
 // The committed model with photos.yaml measures precision 0.836 and recall 0.822 on all 399 development
-// photos (README); the bounds are the goal for them, 0.8 each, so a worse model or a broken
-// pre/post-processing (the mirror-image fusion, the containment merge) fails.
+// photos (README) and 0.849 / 0.827 on the every-4th subset this test scores (TP 129, FP 23, FN 27); the
+// bounds are the goal for them, 0.8 each, so a worse model or a broken pre/post-processing (the
+// mirror-image fusion, the containment merge) fails.
 constexpr double kMinPrecision = 0.80, kMinRecall = 0.80;
 
 // The committed model on a photo and on its mirror image: the same cones, mirrored (the mirror
@@ -219,6 +220,11 @@ TEST(DnnDetector, FindsTheConesOfTheDevelopmentPhotos) {
     if (e->d_name[0] != '.') names.push_back(e->d_name);
   closedir(d);
   ASSERT_GT(names.size(), 300u);
+  // Every 4th photo by name (100 of 399): two network passes a photo, the whole set takes ~50 s of
+  // `make test`; the whole set is `make eval-photos`'s (README, "Learned detector for photos").
+  std::sort(names.begin(), names.end());
+  for (size_t k = 0; k < names.size(); k += 4) names[k / 4] = names[k];
+  names.resize((names.size() + 3) / 4);
   int tp = 0, fp = 0, fn = 0, box_points = 0;
   for (const std::string& name : names) {
     const cv::Mat bgr = cv::imread(dir + "/images/" + name, cv::IMREAD_COLOR);

@@ -10,10 +10,10 @@
 
 namespace rig_sim {
 namespace {
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+constexpr double kDegPerRad = 180.0 / 3.14159265358979323846;
 
 double AngleDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
-  return pose_math::AngleAxisFromRotation(a.transpose() * b).angle_rad * kRadToDeg;
+  return pose_math::AngleAxisFromRotation(a.transpose() * b).angle_rad * kDegPerRad;
 }
 
 // Integrates the gyro with (2.71) over duration_s; returns the final error in degrees.
@@ -81,7 +81,7 @@ TEST(ImuModel, NoisyQuantisedOutputAtRestAveragesToGravityPlusBias) {
   for (int k = 0; k < n; ++k) {
     const ImuSample smp = imu.Next();
     for (int i = 0; i < 3; ++i) {
-      EXPECT_DOUBLE_EQ(smp.omega_imu_rad_s[i] * kRadToDeg, smp.gyro_raw[i] * 600.0 / 65536.0);
+      EXPECT_DOUBLE_EQ(smp.omega_imu_rad_s[i] * kDegPerRad, smp.gyro_raw[i] * 600.0 / 65536.0);
       EXPECT_DOUBLE_EQ(smp.accel_imu_m_s2[i], smp.accel_raw[i] * 196.1 / 65536.0);
     }
     sum_acc += smp.accel_imu_m_s2;
@@ -89,8 +89,8 @@ TEST(ImuModel, NoisyQuantisedOutputAtRestAveragesToGravityPlusBias) {
     bias += smp.true_gyro_bias_rad_s;
   }
   EXPECT_NEAR((sum_acc / n).norm(), 9.81, 0.15);
-  EXPECT_LT(((sum_gyro - bias) / n).norm() * kRadToDeg, 0.02);
-  EXPECT_GT((bias / n).norm() * kRadToDeg, 0.01);  // a turn-on bias is there
+  EXPECT_LT(((sum_gyro - bias) / n).norm() * kDegPerRad, 0.02);
+  EXPECT_GT((bias / n).norm() * kDegPerRad, 0.01);  // a turn-on bias is there
 }
 
 TEST(ImuModel, RangeLimitsSaturate) {
@@ -106,7 +106,7 @@ TEST(ImuModel, RangeLimitsSaturate) {
   for (int k = 0; k < 300; ++k) {
     const ImuSample smp = imu.Next();
     saturated |= smp.saturated;
-    max_deg_s = std::max(max_deg_s, smp.omega_imu_rad_s.cwiseAbs().maxCoeff() * kRadToDeg);
+    max_deg_s = std::max(max_deg_s, smp.omega_imu_rad_s.cwiseAbs().maxCoeff() * kDegPerRad);
   }
   EXPECT_TRUE(saturated);
   EXPECT_LE(max_deg_s, 300.0);

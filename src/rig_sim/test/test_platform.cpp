@@ -15,7 +15,7 @@ namespace rig_sim {
 namespace {
 
 // Camera at eye looking at target, optical frame (z forward, y down).
-TruePose LookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
+TruePose CameraLookingAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
   const Eigen::Vector3d z = (target - eye).normalized();
   const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
   TruePose pose;
@@ -65,7 +65,7 @@ TEST(Platform, RenderedDotsAreBlueWhereProjectedAndTheBoardIsWhiteBetween) {
   RenderConfig rc = sc.render;
   rc.noise_sigma_dn = 0;
   const Renderer r(camera, scene, rc);
-  const TruePose pose = LookAt({0.9, -1.1, 1.3}, {0.0, 0.0, 0.05});
+  const TruePose pose = CameraLookingAt({0.9, -1.1, 1.3}, {0.0, 0.0, 0.05});
   std::vector<uint8_t> rgb(static_cast<size_t>(r.width()) * r.height() * 3);
   std::vector<int16_t> labels(static_cast<size_t>(r.width()) * r.height());
   r.Render(pose, 1.0, 0, rgb.data(), labels.data());

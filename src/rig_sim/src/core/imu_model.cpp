@@ -1,5 +1,7 @@
 #include "rig_sim/imu_model.h"
 
+#include "angles.h"
+
 #include "imu_driver/core/crista_protocol.h"
 #include "pose_math/rotation.h"
 #include "rig_model/camera_imu.h"
@@ -11,9 +13,6 @@
 
 namespace rig_sim {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
 
 // Rounds to Crista counts, saturating at the int16 range and the sensor range.
 int16_t Quantize(double value, double units_per_count, double range, bool* saturated) {

@@ -1,13 +1,13 @@
 #include "render_material.h"
 
+#include "angles.h"
+
 #include <algorithm>
 #include <cmath>
 #include <random>
 
 namespace rig_sim {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Value noise on a lattice of `period` texels, bilinear, periodic over the texture.
 void AddValueNoise(std::vector<float>* tex, int size, int period, float amplitude, std::mt19937* rng) {

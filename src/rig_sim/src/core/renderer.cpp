@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "angles.h"
 #include "render_geometry.h"
 #include "render_material.h"
 
@@ -14,7 +15,6 @@ namespace rig_sim {
 namespace {
 
 constexpr int kTile = 16;
-constexpr double kPi = 3.14159265358979323846;
 
 uint64_t SplitMix64(uint64_t x) {
   x += 0x9E3779B97F4A7C15ull;

@@ -1,5 +1,7 @@
 #include "rig_sim/trajectory.h"
 
+#include "angles.h"
+
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -10,9 +12,6 @@
 
 namespace rig_sim {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
 
 // Integral of SmoothStep from 0 to x, for x in [0, 1].
 double SmoothStepIntegral(double x) { return x * x * x * x * (x * (x - 3.0) + 2.5); }
