@@ -41,6 +41,19 @@ Case Make(const rig_sim::Scene& scene, const Eigen::Vector3d& eye, const Eigen::
   return c;
 }
 
+// Three plain cones, two of one height: no rotational symmetry.
+rig_sim::Scene AsymmetricScene() {
+  rig_sim::Scene s;
+  std::string error;
+  EXPECT_TRUE(
+      rig_sim::ParseSceneYaml("cones:\n  - {x_m: 1.0, y_m: 0.0, height_m: 0.71, style: plain}\n"
+                              "  - {x_m: -0.45, y_m: 0.8, height_m: 0.46, style: plain}\n"
+                              "  - {x_m: -0.55, y_m: -0.8, height_m: 0.71, style: plain}\n",
+                              &s, &error))
+      << error;
+  return s;
+}
+
 double PositionErrorM(const pose_math::Pose& a, const pose_math::Pose& b) {
   auto eye = [](const pose_math::Pose& T) {
     return Eigen::Vector3d(-(pose_math::RotationFromQuat(T.q).transpose() * T.t));
@@ -60,14 +73,7 @@ TEST(ConePose, CorrectedModelPointsFaceTheCamera) {
 
 TEST(ConePose, SymmetryOfTheEquilateralLayoutIsDetected) {
   EXPECT_TRUE(LayoutHasRotationalSymmetry(Models(rig_sim::DefaultScene())));
-  rig_sim::Scene s;
-  std::string error;
-  ASSERT_TRUE(rig_sim::ParseSceneYaml(
-      "cones:\n  - {x_m: 1.0, y_m: 0.0, height_m: 0.71}\n  - {x_m: -0.45, y_m: 0.8, height_m: 0.46}\n"
-      "  - {x_m: -0.55, y_m: -0.8, height_m: 0.71}\n",
-      &s, &error))
-      << error;
-  EXPECT_FALSE(LayoutHasRotationalSymmetry(Models(s)));
+  EXPECT_FALSE(LayoutHasRotationalSymmetry(Models(AsymmetricScene())));
 }
 
 TEST(ConePose, WithPredictionMatchesAndRecoversThePose) {
@@ -92,14 +98,7 @@ TEST(ConePose, WithPredictionMatchesAndRecoversThePose) {
 }
 
 TEST(ConePose, WithoutPredictionAsymmetricLayoutAndGates) {
-  rig_sim::Scene s;
-  std::string error;
-  ASSERT_TRUE(
-      rig_sim::ParseSceneYaml("cones:\n  - {x_m: 1.0, y_m: 0.0, height_m: 0.71, style: plain}\n"
-                              "  - {x_m: -0.45, y_m: 0.8, height_m: 0.46, style: plain}\n"
-                              "  - {x_m: -0.55, y_m: -0.8, height_m: 0.71, style: plain}\n",
-                              &s, &error))
-      << error;
+  const rig_sim::Scene s = AsymmetricScene();
   const Case c = Make(s, Eigen::Vector3d(0.54, 3.15, 1.5), Eigen::Vector3d(0, 0, 0.3));
   ASSERT_EQ(c.seg.cones.size(), 3u);
   const CameraModel cam = c.frame.camera;
@@ -141,14 +140,7 @@ TEST(ConePose, SymmetricLayoutResolvedByTheHeadingPrior) {
 // end. With exact peaks and bases, seen steeply from above and close, the pose
 // must come out exact: the solver uses the image of the 3-D midpoint.
 TEST(ConePose, ImageMidpointOfPeakAndBaseGivesAnUnbiasedPose) {
-  rig_sim::Scene s;
-  std::string error;
-  ASSERT_TRUE(
-      rig_sim::ParseSceneYaml("cones:\n  - {x_m: 1.0, y_m: 0.0, height_m: 0.71, style: plain}\n"
-                              "  - {x_m: -0.45, y_m: 0.8, height_m: 0.46, style: plain}\n"
-                              "  - {x_m: -0.55, y_m: -0.8, height_m: 0.71, style: plain}\n",
-                              &s, &error))
-      << error;
+  const rig_sim::Scene s = AsymmetricScene();
   const std::vector<ConeModel> models = Models(s);
   const rig_sim::TruePose view = LookAt(Eigen::Vector3d(0.3, 2.2, 2.0), Eigen::Vector3d(0, 0, 0));
   const pose_math::Pose truth = TruthCameraCones(view);
