@@ -27,18 +27,17 @@
 
 namespace cone_tracker {
 
-namespace {
-
-struct RunningStat {
-  double last = 0, max = 0, sum = 0;
-  uint64_t n = 0;
-  void Add(double v) { last = v, max = std::max(max, v), sum += v, ++n; }
-  double mean() const { return n ? sum / double(n) : 0.0; }
-};
-}  // namespace
-
 class ConeTrackerNodelet : public nodelet::Nodelet {
  private:
+  // A member type, not file-local: in a unity batch a file-local type in a
+  // member of this class trips -Wsubobject-linkage.
+  struct RunningStat {
+    double last = 0, max = 0, sum = 0;
+    uint64_t n = 0;
+    void Add(double v) { last = v, max = std::max(max, v), sum += v, ++n; }
+    double mean() const { return n ? sum / double(n) : 0.0; }
+  };
+
   void onInit() override;
   void WarnIfSymmetric(const NodeConfig& config, const std::vector<ConeModel>& layout);
   void SetUpRateChecks(const NodeConfig& config);
