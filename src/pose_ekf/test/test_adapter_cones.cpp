@@ -219,7 +219,7 @@ TEST(AdapterCones, StampsOlderThanTheBufferAreDroppedAndCounted) {
   t.Frame(14);  // the IMU up to 0.47 s: frame 1 (0.033 s) is now older than max_delay_s
   EXPECT_EQ(t.adapter.HandleObservations(old, &why), AddResult::kDroppedLate);
   EXPECT_EQ(why, "cone_tracker/observations: observations older than max_delay_s (or the filter's start)");
-  EXPECT_EQ(t.adapter.buffer().counters().dropped_late, 1u);
+  EXPECT_EQ(t.adapter.buffer().counters().cone_frames_dropped_late, 1u);
   EXPECT_EQ(t.adapter.buffer().counters().cones_applied, 0u);
   // Before the first pose: not fused (a pose starts the filter), counted.
   pose_ekf::PoseEkfAdapter fresh{WithLayout()};

@@ -90,8 +90,12 @@ class Soak:
         trk = self.find_status("poses published")
         imu = self.find_status("samples missed")
         num = lambda d, k: float(d.get(k, "nan"))  # noqa: E731
+        # Every camera pose ends in one of these (in cones mode a pose whose image's cones were fused is
+        # not fused again, and one that re-acquires re-initialises the filter).
         ekf_camera = sum(num(ekf, k) for k in ("camera updates", "camera poses rejected (chi2 gate)", "NaN rejected",
-                                                "invalid rejected", "numerical failures"))
+                                                "invalid rejected", "numerical failures",
+                                                "camera poses not fused (their frame's cones were)",
+                                                "re-acquisitions from a camera pose (cones mode)"))
         ekf_imu = sum(num(ekf, k) for k in ("gyro updates", "IMU before the first pose",
                                              "IMU without camera-IMU tf"))
         out = {

@@ -109,8 +109,10 @@ void MeasurementBuffer::MarkSuperseded(size_t i) {
   if (!e.is_camera || config_.camera_update != CameraUpdate::kCones) return;
   if (e.is_cones) {
     for (size_t j = i + 1; j < history_.size() && history_[j].stamp_s == e.stamp_s; ++j) {
-      if (history_[j].is_camera && !history_[j].is_cones && !history_[j].superseded) {
-        history_[j].superseded = true;
+      Entry& pose = history_[j];
+      if (pose.is_camera && !pose.is_cones && !pose.superseded) {
+        pose.superseded = true;
+        UncountPose(pose);  // counted when it arrived before its cones; now it is not fused
         ++counters_.poses_superseded;
       }
     }
@@ -118,6 +120,30 @@ void MeasurementBuffer::MarkSuperseded(size_t i) {
     history_[i].superseded = true;
     ++counters_.poses_superseded;
   }
+}
+
+// Every pose is counted once, by what became of it: one fused when it arrived and
+// superseded by its image's cones later leaves the count it had.
+void MeasurementBuffer::UncountPose(Entry& pose) {
+  uint64_t* counter = nullptr;
+  switch (pose.counted) {
+    case UpdateResult::kApplied:
+      counter = &counters_.camera_applied;
+      break;
+    case UpdateResult::kGated:
+      counter = &counters_.camera_gated;
+      break;
+    case UpdateResult::kRejectedNonFinite:
+      counter = &counters_.nan_rejected;
+      break;
+    case UpdateResult::kNumericalFailure:
+      counter = &counters_.numerical_failures;
+      break;
+    default:
+      break;
+  }
+  if (counter && *counter > 0) --*counter;
+  pose.counted = UpdateResult::kDisabled;
 }
 
 AddResult MeasurementBuffer::AddImu(const ImuMeasurement& m) {
@@ -165,7 +191,7 @@ AddResult MeasurementBuffer::Add(Entry e) {
   e.seq = next_seq_++;
   const double newest = history_.empty() ? (ekf_.initialized() ? base_.stamp_s : -1e300) : history_.back().stamp_s;
   if (e.stamp_s < newest - config_.max_delay_s || (ekf_.initialized() && e.stamp_s < base_.stamp_s)) {
-    ++counters_.dropped_late;
+    ++(e.is_cones ? counters_.cone_frames_dropped_late : counters_.dropped_late);
     return AddResult::kDroppedLate;
   }
   if (!ekf_.initialized() && e.is_cones) {
@@ -321,6 +347,7 @@ UpdateResult MeasurementBuffer::Apply(Entry& e, bool count) {
   if (e.is_camera) {
     double nis = 0.0, gate_chi2 = 0.0;
     const UpdateResult r = ekf_.UpdateCamera(e.camera, &nis, &gate_chi2);
+    if (count) e.counted = r;
     if (count && r == UpdateResult::kGated) {
       ++counters_.camera_gated;
       counters_.camera_gate_last_rejected_chi2 = gate_chi2;

@@ -349,7 +349,8 @@ void PoseEkfNodelet::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   stat.add("cone frames not fused (their pose (re-)initialised the filter)", c.cone_frames_superseded);
   stat.add("re-acquisitions from a camera pose (cones mode)", c.reacquisitions);
   stat.add("position sigma (m)", adapter_->buffer().PositionSigmaM());
-  stat.add("dropped late", c.dropped_late);
+  stat.add("dropped late", c.dropped_late);  // poses and IMU samples
+  stat.add("cone frames dropped late", c.cone_frames_dropped_late);
   stat.add("IMU before the first pose", c.imu_before_start);
   stat.add("NaN rejected", c.nan_rejected + adapter_->nan_rejected());
   stat.add("invalid rejected", adapter_->invalid_rejected());

@@ -116,10 +116,11 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
   const BufferCounters& c = adapter.buffer().counters();
   log << "ekf_replay: " << summary.camera_messages << " camera poses, " << summary.imu_messages << " IMU samples, "
       << summary.poses_written << " poses written" << (summary.orientation_only ? " (orientation-only)" : "")
-      << "; dropped late " << c.dropped_late << ", NaN rejected " << c.nan_rejected + adapter.nan_rejected()
-      << ", invalid " << adapter.invalid_rejected() << ", resets " << c.resets << "; camera poses rejected (chi2 gate) "
-      << c.camera_gated << " (threshold " << adapter.buffer().filter().camera_gate_chi2() << ", last rejected "
-      << c.camera_gate_last_rejected_chi2 << "), re-initialisations " << c.reinits << ", camera NIS mean "
+      << "; dropped late " << c.dropped_late << " (cone frames " << c.cone_frames_dropped_late << ")"
+      << ", NaN rejected " << c.nan_rejected + adapter.nan_rejected() << ", invalid " << adapter.invalid_rejected()
+      << ", resets " << c.resets << "; camera poses rejected (chi2 gate) " << c.camera_gated << " (threshold "
+      << adapter.buffer().filter().camera_gate_chi2() << ", last rejected " << c.camera_gate_last_rejected_chi2
+      << "), re-initialisations " << c.reinits << ", camera NIS mean "
       << (c.camera_nis_count ? c.camera_nis_sum / c.camera_nis_count : 0.0) << "; " << summary.observation_messages
       << " cone observation messages: cones fused " << c.cones_applied << ", gated " << c.cones_gated
       << ", joint-dropped " << c.cones_joint_dropped << ", refused " << adapter.observations_rejected() << " + "

@@ -37,6 +37,7 @@ struct BufferCounters {
   double camera_gate_last_rejected_chi2 = 0.0;  // the gate statistic of the last of them
   uint64_t reinits = 0;                         // re-initialisations after reinit_after_rejections of them in a row
   uint64_t dropped_late = 0;                    // older than the buffer window
+  uint64_t cone_frames_dropped_late = 0;        // cone observations older than the buffer window
   uint64_t imu_before_start = 0;    // IMU samples older than the first pose (waiting for the cones is normal)
   uint64_t nan_rejected = 0;        // non-finite values or stamps
   uint64_t numerical_failures = 0;  // innovation covariance not positive definite
@@ -95,8 +96,9 @@ class MeasurementBuffer {
     double stamp_s = 0.0;
     bool is_camera = false;  // a pose, or cone observations (is_cones)
     bool is_cones = false;
-    bool superseded = false;  // a pose whose image's cones are in the history: not fused
-    uint64_t seq = 0;         // arrival order, the last tie breaker
+    bool superseded = false;                         // a pose whose image's cones are in the history: not fused
+    UpdateResult counted = UpdateResult::kDisabled;  // how a pose was counted when it arrived
+    uint64_t seq = 0;                                // arrival order, the last tie breaker
     CameraMeasurement camera;
     ImuMeasurement imu;
     ConeFrame cones;
@@ -111,6 +113,7 @@ class MeasurementBuffer {
   AddResult ReinitializeFrom(size_t i);
   // Returns the camera update's result (kDisabled for an IMU sample).
   UpdateResult Apply(Entry& e, bool count);
+  void UncountPose(Entry& pose);
   void Trim();
   void MarkSuperseded(size_t i);
   void TallyCones(UpdateResult r, const ConeFrameResult& res);
