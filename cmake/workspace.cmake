@@ -27,7 +27,6 @@ set(CMAKE_UNITY_BUILD_BATCH_SIZE 8)
 # same way (or, in its package, set_source_files_properties(<file> PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)).
 set(_WS_UNITY_SKIP
   "pose_ekf src/core/process_model.cpp"             # RotateInverse(Jacobian), as in cone_update.cpp
-  "pose_ekf test/test_cone_update.cpp"              # SimConfig(), as in test_accuracy.cpp
   "pose_ekf test/test_node_config.cpp"              # Write(name, text), as in test_adapter_cones.cpp
   "cone_tracker src/node/tracker_observations.cpp"  # Set2(), as in tracker_adapter.cpp
   "cone_tracker test/test_null_space.cpp"           # kExact, as in test_classic.cpp

@@ -1,6 +1,6 @@
 // The tightly coupled per-cone camera update (cone_measurement.h, cone_update.cpp) and cone frames
-// in the measurement buffer: the Jacobian against numeric differences, the gates, one and two
-// visible cones on the synthetic rig, buffering, the pose/cones interaction and Monte Carlo NEES.
+// on the synthetic rig: the Jacobian against numeric differences, the gates, one and two visible
+// cones, and Monte Carlo NEES. Cone frames in the measurement buffer: test_cone_buffer.cpp.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -29,21 +29,6 @@ using pose_ekf::EkfCore;
 using pose_ekf::MeasurementBuffer;
 using pose_ekf::StateVector;
 using pose_ekf::UpdateResult;
-
-EkfConfig SimConfig() {
-  EkfConfig c;
-  c.camera_update = pose_ekf::CameraUpdate::kCones;  // opt-in (the default is kPose)
-  c.sigma_gyro_rad_s = 0.01;
-  c.sigma_accel_m_s2 = 0.1;
-  return c;
-}
-
-// The rig's first truth: 2.6 m from the cones, looking at them.
-pose_math::Pose StartTruth() {
-  RigSimConfig sim;
-  sim.duration_s = 0.0;
-  return GenerateRig(sim).front().truth.T_cones_camera;
-}
 
 void Print(const char* name, const RunStats& s, const BufferCounters& n) {
   std::printf(
@@ -77,7 +62,7 @@ void ExpectJacobianMatches(const StateVector& x, const pose_ekf::ConeGeometry& c
 }
 
 TEST(ConeJacobian, AnalyticMatchesNumericDifferences) {
-  const pose_math::Pose T = StartTruth();
+  const pose_math::Pose T = ConeRigStart();
   const std::vector<pose_ekf::ConeGeometry> cones = DefaultCones();
   for (int n : {pose_ekf::kBaseStates, pose_ekf::kMaxStates}) {
     for (double scale : {1.0, 1.05}) {  // the general rotation (2.36): exact off the unit sphere too
@@ -98,7 +83,7 @@ TEST(ConeJacobian, AnalyticMatchesNumericDifferences) {
 }
 
 TEST(ConeJacobian, ProjectionIsThePinholeOfTheTrackersModelPoints) {
-  const pose_math::Pose T = StartTruth();
+  const pose_math::Pose T = ConeRigStart();
   const pose_ekf::ConeGeometry cone = DefaultCones()[1];
   std::mt19937 rng(1);
   const ConeFrame f = ObserveCones(0.0, T, DefaultCones(), {1}, DefaultIntrinsics(), 0.0, &rng);
@@ -117,7 +102,7 @@ TEST(ConeJacobian, ProjectionIsThePinholeOfTheTrackersModelPoints) {
 
 TEST(ConeFrameCheck, NamesTheBadField) {
   std::mt19937 rng(1);
-  const ConeFrame good = ObserveCones(1.0, StartTruth(), DefaultCones(), {0, 1, 2}, DefaultIntrinsics(), 1.0, &rng);
+  const ConeFrame good = ObserveCones(1.0, ConeRigStart(), DefaultCones(), {0, 1, 2}, DefaultIntrinsics(), 1.0, &rng);
   EXPECT_EQ(pose_ekf::CheckConeFrame(good), "");
   ConeFrame f = good;
   f.cones[1].px[1].x() = NAN;
@@ -130,7 +115,7 @@ TEST(ConeFrameCheck, NamesTheBadField) {
   EXPECT_EQ(pose_ekf::CheckConeFrame(f),
             "cones[2].base_cov_px2 is not a finite symmetric positive definite 2x2 matrix");
   // The buffer refuses and counts them.
-  MeasurementBuffer b(SimConfig());
+  MeasurementBuffer b(ConeSimConfig());
   f.cones[2].px[0].y() = INFINITY;
   EXPECT_EQ(b.AddCones(f), AddResult::kRejectedNonFinite);
   EXPECT_EQ(b.counters().nan_rejected, 1u);
@@ -139,14 +124,14 @@ TEST(ConeFrameCheck, NamesTheBadField) {
 // A filter at the truth with a tight prior (1 mm, 1 mrad): S is then about R per cone.
 EkfCore Tight(const EkfConfig& c) {
   EkfCore ekf{c};
-  EXPECT_TRUE(ekf.Initialize(Camera(0.0, StartTruth(), 0.001, 0.001)));
+  EXPECT_TRUE(ekf.Initialize(Camera(0.0, ConeRigStart(), 0.001, 0.001)));
   return ekf;
 }
 
 TEST(ConeGates, SwappedIdsAreGatedAndTheRightConeIsFused) {
-  EkfCore ekf = Tight(SimConfig());
+  EkfCore ekf = Tight(ConeSimConfig());
   std::mt19937 rng(3);
-  ConeFrame f = ObserveCones(0.0, StartTruth(), DefaultCones(), {0, 1, 2}, DefaultIntrinsics(), 1.0, &rng);
+  ConeFrame f = ObserveCones(0.0, ConeRigStart(), DefaultCones(), {0, 1, 2}, DefaultIntrinsics(), 1.0, &rng);
   std::swap(f.cones[0].cone, f.cones[1].cone);  // the association swapped cones 0 and 1
   std::swap(f.cones[0].cone_id, f.cones[1].cone_id);
   ConeFrameResult r;
@@ -154,11 +139,11 @@ TEST(ConeGates, SwappedIdsAreGatedAndTheRightConeIsFused) {
   EXPECT_EQ(r.gated, 2);
   EXPECT_EQ(r.fused, 1);
   EXPECT_GT(r.worst_gate_chi2, 1e4);
-  EXPECT_LT((ekf.state().x.segment<3>(pose_ekf::kP) - StartTruth().t).norm(), 0.01);
+  EXPECT_LT((ekf.state().x.segment<3>(pose_ekf::kP) - ConeRigStart().t).norm(), 0.01);
   // All three wrong (the equilateral layout's 120-degree rotation): nothing fused, the state unchanged.
-  EkfCore ekf2 = Tight(SimConfig());
+  EkfCore ekf2 = Tight(ConeSimConfig());
   const StateVector before = ekf2.state().x;
-  ConeFrame g = ObserveCones(0.0, StartTruth(), DefaultCones(), {0, 1, 2}, DefaultIntrinsics(), 1.0, &rng);
+  ConeFrame g = ObserveCones(0.0, ConeRigStart(), DefaultCones(), {0, 1, 2}, DefaultIntrinsics(), 1.0, &rng);
   const auto cones = DefaultCones();
   for (int i = 0; i < 3; ++i) g.cones[i].cone = cones[(i + 1) % 3];
   EXPECT_EQ(ekf2.UpdateCones(g, &r), UpdateResult::kGated);
@@ -168,10 +153,10 @@ TEST(ConeGates, SwappedIdsAreGatedAndTheRightConeIsFused) {
 
 // Each cone just inside its own gate, together far outside chance: the joint check drops cones.
 TEST(ConeGates, JointCheckDropsConesThatPassAlone) {
-  EkfConfig c = SimConfig();
+  EkfConfig c = ConeSimConfig();
   EkfCore ekf = Tight(c);
   std::mt19937 rng(4);
-  ConeFrame f = ObserveCones(0.0, StartTruth(), DefaultCones(), {0, 1, 2}, DefaultIntrinsics(), 0.0, &rng);
+  ConeFrame f = ObserveCones(0.0, ConeRigStart(), DefaultCones(), {0, 1, 2}, DefaultIntrinsics(), 0.0, &rng);
   for (auto& o : f.cones)
     for (auto& cov : o.cov_px2) cov = Eigen::Matrix2d::Identity();
   // Peaks moved in different directions (no pose explains them): about 4.6 sigma per cone.
@@ -214,11 +199,11 @@ TEST(ConeRig, OneConeAtATimeKeepsThePositionBounded) {
   ConeRunOptions o;
   o.poses = ConeRunOptions::Poses::kFirstOnly;  // the pose initialises; nothing else but single cones
   o.visible = [](int k, double) { return std::vector<int>{k % 3}; };
-  const Runs rotating = RunCones(SimConfig(), events, o);
+  const Runs rotating = RunCones(ConeSimConfig(), events, o);
   o.visible = [](int, double) { return std::vector<int>{1}; };
-  const Runs same = RunCones(SimConfig(), events, o);
+  const Runs same = RunCones(ConeSimConfig(), events, o);
   o.feed_cones = false;
-  const Runs imu_only = RunCones(SimConfig(), events, o);
+  const Runs imu_only = RunCones(ConeSimConfig(), events, o);
   Print("one cone per frame, cycling", rotating.stats, rotating.n);
   Print("always the same one cone", same.stats, same.n);
   Print("IMU only after the first pose", imu_only.stats, imu_only.n);
@@ -239,12 +224,12 @@ TEST(ConeRig, TwoConesBeatOne) {
   ConeRunOptions o;
   o.poses = ConeRunOptions::Poses::kFirstOnly;
   o.visible = [](int k, double) { return std::vector<int>{k % 3}; };
-  const Runs one = RunCones(SimConfig(), events, o);
+  const Runs one = RunCones(ConeSimConfig(), events, o);
   o.visible = [](int k, double) { return std::vector<int>{k % 3, (k + 1) % 3}; };
-  const Runs two = RunCones(SimConfig(), events, o);
+  const Runs two = RunCones(ConeSimConfig(), events, o);
   o.visible = [](int, double) { return std::vector<int>{0, 1, 2}; };
-  const Runs three = RunCones(SimConfig(), events, o);
-  const RunStats poses = RunFilter(SimConfig(), events, 1.0);
+  const Runs three = RunCones(ConeSimConfig(), events, o);
+  const RunStats poses = RunFilter(ConeSimConfig(), events, 1.0);
   Print("one cone per frame", one.stats, one.n);
   Print("two cones per frame", two.stats, two.n);
   Print("three cones per frame", three.stats, three.n);
@@ -256,167 +241,6 @@ TEST(ConeRig, TwoConesBeatOne) {
   EXPECT_GE(two.stats.fraction_within_3_sigma, 0.95);
 }
 
-// Late frames are inserted at their stamp and the IMU replayed: the same estimate as in order.
-TEST(ConeBuffer, LateFramesGiveTheSameEstimateAsInOrder) {
-  RigSimConfig sim;
-  sim.duration_s = 5.0;
-  const std::vector<Event> events = GenerateRig(sim);
-  ConeRunOptions o;
-  o.visible = [](int k, double) { return std::vector<int>{k % 3, (k + 1) % 3}; };
-  o.poses = ConeRunOptions::Poses::kFirstOnly;
-  const Runs in_order = RunCones(SimConfig(), events, o);
-  o.delay_s = 0.045;  // four or five IMU samples late
-  const Runs late = RunCones(SimConfig(), events, o);
-  EXPECT_GT(late.n.replays, 100u);
-  EXPECT_EQ(late.n.cone_frames_applied, in_order.n.cone_frames_applied);
-  EXPECT_EQ(late.final.stamp_s, in_order.final.stamp_s);
-  EXPECT_LT((late.final.x - in_order.final.x).norm(), 1e-12);
-  EXPECT_LT((late.final.P - in_order.final.P).norm(), 1e-12);
-  o.delay_s = 0.3;  // beyond max_delay_s: dropped and counted
-  const Runs too_late = RunCones(SimConfig(), events, o);
-  EXPECT_GT(too_late.n.cone_frames_dropped_late, 100u);
-  EXPECT_EQ(too_late.n.cone_frames_applied, 0u);
-}
-
-// A frame with a pose and cones is fused once, whichever arrives first.
-TEST(ConeBuffer, PoseOfAFrameWithConesIsNotFusedAgain) {
-  RigSimConfig sim;
-  sim.duration_s = 5.0;
-  const std::vector<Event> events = GenerateRig(sim);
-  ConeRunOptions o;
-  o.poses = ConeRunOptions::Poses::kFirstOnly;
-  const Runs cones_only = RunCones(SimConfig(), events, o);
-  o.poses = ConeRunOptions::Poses::kAll;  // the pose reaches the buffer before the cones: replayed without it
-  const Runs both = RunCones(SimConfig(), events, o);
-  EXPECT_EQ(both.n.poses_superseded, both.n.cone_frames_applied);
-  EXPECT_EQ(both.n.cone_frames_superseded, 1u);  // the first frame's pose initialised the filter
-  // Each pose is counted once, by what became of it (diagnostics add up, ar_bringup's soak test):
-  // fused on arrival, then superseded by its cones, it is no longer a camera update.
-  EXPECT_EQ(both.n.camera_applied + both.n.camera_gated, 1u);
-  EXPECT_DOUBLE_EQ(both.stats.rms_position_m, cones_only.stats.rms_position_m);
-  EXPECT_DOUBLE_EQ(both.stats.mean_nees, cones_only.stats.mean_nees);
-  // camera_update = pose: the cones are not used, and the result is the loosely coupled filter's.
-  EkfConfig pose = SimConfig();
-  pose.camera_update = pose_ekf::CameraUpdate::kPose;
-  const Runs loose = RunCones(pose, events, o);
-  const RunStats reference = RunFilter(pose, events, 1.0);
-  EXPECT_EQ(loose.n.cones_applied, 0u);
-  EXPECT_GT(loose.n.cone_frames_not_used, 140u);
-  EXPECT_DOUBLE_EQ(loose.stats.rms_position_m, reference.rms_position_m);
-  // Poses without cone observations (a tracker that does not publish them) are fused as before.
-  o.feed_cones = false;
-  const Runs no_cones = RunCones(SimConfig(), events, o);
-  EXPECT_DOUBLE_EQ(no_cones.stats.rms_position_m, reference.rms_position_m);  // as camera_update: pose
-  EXPECT_DOUBLE_EQ(no_cones.stats.mean_nees, reference.mean_nees);
-}
-
-// Re-acquisition: rejected cone frames in a row, or a large position sigma, make the next pose
-// re-initialise the filter; that image's cones are then not fused as well.
-TEST(ConeBuffer, RejectedFramesInARowAndALargeSigmaReacquireFromThePose) {
-  EkfConfig c = SimConfig();
-  c.reinit_after_rejections = 5;
-  MeasurementBuffer b(c);
-  const pose_math::Pose T = StartTruth();
-  std::mt19937 rng(5);
-  ASSERT_EQ(b.AddCamera(Camera(0.0, T, 0.001, 0.001)), AddResult::kInitialized);
-  const auto cones = DefaultCones();
-  pose_ekf::ImuMeasurement imu;
-  imu.accel_camera_m_s2 = pose_math::RotationFromQuat(T.q).transpose() * Eigen::Vector3d(0, 0, c.gravity_m_s2);
-  for (int k = 1; k <= 5; ++k) {
-    imu.stamp_s = k / 30.0 - 0.001;
-    b.AddImu(imu);
-    ConeFrame f = ObserveCones(k / 30.0, T, cones, {0, 1, 2}, DefaultIntrinsics(), 1.0, &rng);
-    for (int i = 0; i < 3; ++i) f.cones[i].cone = cones[(i + 1) % 3];  // rotated association
-    EXPECT_EQ(b.AddCones(f), AddResult::kGated);
-    EXPECT_EQ(b.ReacquireDue(), k == 5) << k;
-  }
-  EXPECT_EQ(b.counters().cone_frames_rejected, 5u);
-  const double t = 6 / 30.0;
-  EXPECT_EQ(b.AddCamera(Camera(t, T, 0.001, 0.001)), AddResult::kReinitialized);
-  EXPECT_EQ(b.counters().reacquisitions, 1u);
-  EXPECT_FALSE(b.ReacquireDue());
-  EXPECT_EQ(b.AddCones(ObserveCones(t, T, cones, {0}, DefaultIntrinsics(), 1.0, &rng)), AddResult::kSuperseded);
-  // No camera for 3 s: the position sigma grows past reacquire_sigma_p_m.
-  for (int k = 1; k <= 300; ++k) {
-    imu.stamp_s = t + 0.01 * k;
-    b.AddImu(imu);
-  }
-  std::printf("[ cones ] position sigma after 3 s without camera: %.2f m\n", b.PositionSigmaM());
-  EXPECT_GT(b.PositionSigmaM(), c.reacquire_sigma_p_m);
-  EXPECT_TRUE(b.ReacquireDue());
-  EXPECT_EQ(b.AddCamera(Camera(t + 2.99, T, 0.001, 0.001)), AddResult::kReinitialized);
-  EXPECT_EQ(b.counters().reacquisitions, 2u);
-  EXPECT_LT(b.PositionSigmaM(), 0.01);
-  // With a sigma below the threshold, a pose of a frame with cones is superseded instead.
-  const double t2 = t + 3.005;
-  EXPECT_EQ(b.AddCones(ObserveCones(t2, T, cones, {0, 1}, DefaultIntrinsics(), 1.0, &rng)), AddResult::kApplied);
-  EXPECT_EQ(b.AddCamera(Camera(t2, T, 0.001, 0.001)), AddResult::kSuperseded);
-}
-
-// Re-acquiring (the position sigma above reacquire_sigma_p_m after 3 s without a camera), a lone cone is
-// not fused: under a drifted prediction one detection may be any layout cone, seen from anywhere the
-// prediction's sigma allows (look_away seed 4 at 12.8 s: the top of a cut cone 0 read as the short cone
-// 2, 1.2 m off afterwards). Here the lone "cone 2" is what a camera 0.3 m beside the prediction would
-// see: it passes the per-cone gate of a filter this uncertain. Two cones re-acquire; then lone cones are fused again.
-TEST(ConeBuffer, ReacquiringNeedsTwoConesTogether) {
-  struct Outcome {
-    std::vector<AddResult> results;
-    double before_m = 0.0, after_lone_m = 0.0, end_m = 0.0;  // position error against the truth
-    uint64_t too_few = 0;
-  };
-  const auto run = [](int min_cones) {
-    EkfConfig c = SimConfig();
-    c.reacquire_min_cones = min_cones;
-    c.cone_ambiguity_margin = 0.0;  // this rule alone (the ambiguity test: below)
-    MeasurementBuffer b(c);
-    const pose_math::Pose T = StartTruth();
-    std::mt19937 rng(7);
-    EXPECT_EQ(b.AddCamera(Camera(0.0, T, 0.001, 0.001)), AddResult::kInitialized);
-    const auto cones = DefaultCones();
-    pose_ekf::ImuMeasurement imu;
-    imu.accel_camera_m_s2 = pose_math::RotationFromQuat(T.q).transpose() * Eigen::Vector3d(0, 0, c.gravity_m_s2);
-    for (int k = 1; k <= 300; ++k) {
-      imu.stamp_s = 0.01 * k;
-      b.AddImu(imu);
-      if (k == 3) {
-        EXPECT_EQ(b.AddCones(ObserveCones(0.031, T, cones, {0, 1, 2}, DefaultIntrinsics(), 1.0, &rng)),
-                  AddResult::kApplied);
-      }
-    }
-    EXPECT_TRUE(b.ReacquireDue()) << b.PositionSigmaM();
-    const auto error = [&] { return (b.filter().state().x.segment<3>(pose_ekf::kP) - T.t).norm(); };
-    Outcome o;
-    o.before_m = error();
-    pose_math::Pose aside = T;
-    aside.t = b.filter().state().x.segment<3>(pose_ekf::kP) +  // 0.3 m from the prediction along the camera's x
-              pose_math::RotationFromQuat(T.q) * Eigen::Vector3d(0.3, 0.0, 0.0);
-    o.results.push_back(b.AddCones(ObserveCones(3.005, aside, cones, {2}, DefaultIntrinsics(), 1.0, &rng)));
-    o.after_lone_m = error();
-    std::printf("[ cones ] after the lone cone: position sigma %.3f m, its chi2 %.1f (gate %.1f)\n", b.PositionSigmaM(),
-                b.last_cone_frame().worst_gate_chi2, b.filter().cone_gate_chi2());
-    o.results.push_back(b.AddCones(ObserveCones(3.04, T, cones, {0, 1}, DefaultIntrinsics(), 1.0, &rng)));
-    o.results.push_back(b.AddCones(ObserveCones(3.07, T, cones, {1}, DefaultIntrinsics(), 1.0, &rng)));
-    o.end_m = error();
-    o.too_few = b.counters().cone_frames_too_few;
-    std::printf(
-        "[ cones ] reacquire_min_cones %d: position error %.3f m before the lone cone, %.3f m after, %.3f m "
-        "after two cones and one more\n",
-        min_cones, o.before_m, o.after_lone_m, o.end_m);
-    return o;
-  };
-  const Outcome two = run(2);
-  EXPECT_EQ(two.results, (std::vector<AddResult>{AddResult::kGated, AddResult::kApplied, AddResult::kApplied}));
-  EXPECT_EQ(two.too_few, 1u);
-  EXPECT_NEAR(two.after_lone_m, two.before_m, 0.01);  // not fused: only 5 ms more of the IMU
-  EXPECT_LT(two.end_m, 0.5 * two.before_m);           // the two cones re-acquired
-  const Outcome one = run(1);                         // the rule off: the lone cone is fused
-  EXPECT_EQ(one.results[0], AddResult::kApplied);
-  EXPECT_EQ(one.too_few, 0u);
-  // Fused, it shrinks the position sigma to millimetres around the wrong place, and the two right cones
-  // that follow no longer pull it back (0.34 m against 0.07 m when this was written).
-  EXPECT_GT(one.end_m, 3.0 * two.end_m);
-}
-
 // The filter's own check of a lone cone's id: with the position sigma of a long outage (1.5 m per axis,
 // look_away seed 4 after 7 s) another layout cone fits the same pixels nearly as well (ambiguous, not
 // fused); at a tracked filter's sigma none does, and every lone cone of the runs above was fused. The
@@ -425,7 +249,7 @@ TEST(ConeBuffer, ReacquiringNeedsTwoConesTogether) {
 // by its first-order shape change: README, "Re-acquisition").
 TEST(ConeGates, ALoneConeAnotherLayoutConeFitsIsNotFused) {
   const auto run = [](double margin, double sigma_p_m, ConeFrameResult* r) {
-    EkfConfig c = SimConfig();
+    EkfConfig c = ConeSimConfig();
     c.cone_ambiguity_margin = margin;
     EkfCore ekf = Tight(c);
     pose_ekf::FilterState s = ekf.state();
@@ -436,7 +260,7 @@ TEST(ConeGates, ALoneConeAnotherLayoutConeFitsIsNotFused) {
     layout.push_back(layout[1]);
     layout.back().base_m += Eigen::Vector3d(0.0, 0.4, 0.0);
     const UpdateResult u =
-        ekf.UpdateCones(ObserveCones(0.0, StartTruth(), layout, {1}, DefaultIntrinsics(), 1.0, &rng), r);
+        ekf.UpdateCones(ObserveCones(0.0, ConeRigStart(), layout, {1}, DefaultIntrinsics(), 1.0, &rng), r);
     std::printf("[ cones ] lone cone, position sigma %.2f m, margin %.0f: %s\n", sigma_p_m, margin, ToString(u));
     return u;
   };
@@ -459,7 +283,7 @@ struct Nees {
 
 Nees MonteCarloNees(const char* name, const std::function<std::vector<int>(int, double)>& visible) {
   constexpr int kRuns = 50;
-  EkfConfig c = SimConfig();
+  EkfConfig c = ConeSimConfig();
   c.sigma_omega_rad_s_per_sqrt_s = 0.2;
   c.sigma_a_m_s2_per_sqrt_s = 0.1;
   const double dt = 0.01;  // the continuous white-noise-jerk model over one IMU step (test_accuracy)

@@ -128,4 +128,18 @@ RunStats RunFilterWithCones(const pose_ekf::EkfConfig& config, const std::vector
   return s;
 }
 
+pose_ekf::EkfConfig ConeSimConfig() {
+  pose_ekf::EkfConfig c;
+  c.camera_update = pose_ekf::CameraUpdate::kCones;
+  c.sigma_gyro_rad_s = 0.01;
+  c.sigma_accel_m_s2 = 0.1;
+  return c;
+}
+
+pose_math::Pose ConeRigStart() {
+  RigSimConfig sim;
+  sim.duration_s = 0.0;
+  return GenerateRig(sim).front().truth.T_cones_camera;
+}
+
 }  // namespace pose_ekf_test

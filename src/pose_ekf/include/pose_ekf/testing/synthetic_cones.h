@@ -25,6 +25,12 @@ pose_ekf::ConeFrame ObserveCones(double stamp_s, const pose_math::Pose& T_cones_
                                  const std::vector<pose_ekf::ConeGeometry>& layout, const std::vector<int>& cones,
                                  const pose_ekf::PinholeIntrinsics& K, double sigma_px, std::mt19937* rng);
 
+// The filter configuration of the per-cone tests: camera_update cones (opt-in in the core), the
+// synthetic rig's gyro and accelerometer noise.
+pose_ekf::EkfConfig ConeSimConfig();
+// The synthetic rig's first true pose: 2.6 m from the cones, looking at them.
+pose_math::Pose ConeRigStart();
+
 struct ConeRunOptions {
   std::vector<pose_ekf::ConeGeometry> layout = DefaultCones();
   pose_ekf::PinholeIntrinsics K = DefaultIntrinsics();
