@@ -3,7 +3,11 @@
 #include "rig_model/ros/param_table_ros.h"
 #include "rig_sim/crista_link.h"
 
+#include <nodelet/NodeletList.h>
 #include <rosgraph_msgs/Clock.h>
+
+#include <algorithm>
+#include <sstream>
 
 namespace rig_sim {
 
@@ -23,7 +27,9 @@ const rig_model::ParamTable<SimPublisherConfig>& SimPublisherParams() {
           .Add("publish_clock", [](C& c) -> bool& { return c.publish_clock; })
           .Add("serial_pty", [](C& c) -> bool& { return c.serial_pty; })
           .Add("serial_link", [](C& c) -> std::string& { return c.serial_link; })
-          .Add("layouts_dir", [](C& c) -> std::string& { return c.layouts_dir; });
+          .Add("layouts_dir", [](C& c) -> std::string& { return c.layouts_dir; })
+          .Add("wait_for_manager", [](C& c) -> std::string& { return c.wait_for_manager; })
+          .Add("wait_for_nodelets", [](C& c) -> std::string& { return c.wait_for_nodelets; });
   return table;
 }
 
@@ -49,6 +55,8 @@ bool LoadSimPublisherConfig(const ros::NodeHandle& pnh, SimPublisherConfig* c, s
     err = "~camera_delay_ms must be in [0, 1000]";
   else if (!(out.start_time_s > 0.0))
     err = "~start_time_s must be positive";
+  else if (out.wait_for_manager.empty() && !out.wait_for_nodelets.empty())
+    err = "~wait_for_nodelets needs ~wait_for_manager (the manager they load into)";
   else if (!out.look.empty()) {
     Scenario probe;
     if (!ApplyLook(out.look, &probe, &err)) err = "~look: " + err;
@@ -99,6 +107,39 @@ SimPublisher::SimPublisher(ros::NodeHandle nh, ros::NodeHandle pnh, const SimPub
 SimPublisher::~SimPublisher() {
   frames_.reset();  // joins the render thread before the stream goes
   stream_.reset();
+}
+
+// Waits on the manager's own list: nodelet::Loader holds its lock through a nodelet's onInit(), so a
+// listed nodelet has made its subscriptions. A fixed start delay, the alternative, fails on a loaded
+// machine (the soak lost the driver's first IMU messages that way).
+void SimPublisher::WaitForNodelets() {
+  if (config_.wait_for_manager.empty()) return;
+  std::vector<std::string> wanted;
+  std::istringstream words(config_.wait_for_nodelets);
+  for (std::string w; words >> w;) wanted.push_back(w.front() == '/' ? w : "/" + w);
+  const std::string service = ros::names::resolve(config_.wait_for_manager) + "/list";
+  ros::WallTime next_log = ros::WallTime::now();
+  while (ros::ok()) {
+    nodelet::NodeletList list;
+    std::vector<std::string> missing = wanted;
+    const bool answered = ros::service::call(service, list);
+    if (answered) {
+      for (const std::string& name : list.response.nodelets)
+        missing.erase(std::remove(missing.begin(), missing.end(), name), missing.end());
+      if (missing.empty()) return;
+    }
+    if (ros::WallTime::now() >= next_log) {
+      std::string names;
+      for (const std::string& m : missing) names += " " + m;
+      if (answered)
+        ROS_INFO("rig_sim: waiting for nodelets in %s (~wait_for_nodelets):%s", service.c_str(), names.c_str());
+      else
+        ROS_INFO("rig_sim: waiting for the nodelet manager's %s (~wait_for_manager)", service.c_str());
+      next_log += ros::WallDuration(5.0);
+    }
+    ros::spinOnce();  // the wall-timer diagnostics keep reporting
+    ros::WallDuration(0.05).sleep();
+  }
 }
 
 void SimPublisher::StartPass() {
@@ -155,6 +196,7 @@ void SimPublisher::Publish(const SimEvent& ev) {
 }
 
 void SimPublisher::Run() {
+  WaitForNodelets();
   StartPass();
   const ros::WallTime wall0 = ros::WallTime::now();
   double pass_offset_s = 0.0;  // scenario time already played in earlier passes

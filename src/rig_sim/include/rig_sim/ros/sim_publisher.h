@@ -31,6 +31,10 @@ struct SimPublisherConfig {
   bool serial_pty = false;
   std::string serial_link = "/tmp/rig_sim_crista";  // symlink to the pty slave
   std::string layouts_dir;                          // default: rig_model's config/layouts
+  // Publish nothing (not even /clock) until this manager answers and lists these nodelets
+  // (space-separated), so that a graph started beside the simulator sees every message.
+  std::string wait_for_manager;
+  std::string wait_for_nodelets;
 };
 
 // SimPublisherConfig's parameters under ~, by the field names.
@@ -48,6 +52,7 @@ class SimPublisher {
   void Run();
 
  private:
+  void WaitForNodelets();
   void StartPass();
   void Publish(const SimEvent& ev);
   void Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
