@@ -124,6 +124,48 @@ ConeVector ConePixels(const ConeObservation& o) {
   return z;
 }
 
+// Gauss-Newton on J (the iterated EKF update's steps): linearised at x, the minimiser of the prior term
+// plus the linearised pixel term is x0 + P Hᵀ S⁻¹ (z - h - H (x0 - x)). Every iterate is x0 + P a, so the
+// prior term is aᵀ P a, with no inverse of P (whose quaternion block is nearly singular).
+double ConeFitCost(const StateVector& x0, const StateMatrix& P, const ConeGeometry& cone, const PinholeIntrinsics& K,
+                   const ConeVector& z, const ConeMatrix& R, int iterations) {
+  const double kInf = std::numeric_limits<double>::infinity();
+  const Eigen::LDLT<ConeMatrix> R_ldlt(R);
+  ConeVector h;
+  ConeJacobian H;
+  const auto cost = [&](const StateVector& a) {  // J at x0 + P a
+    if (!ProjectCone(x0 + P * a, cone, K, &h, nullptr)) return kInf;
+    const ConeVector r = z - h;
+    return a.dot(P * a) + r.dot(R_ldlt.solve(r));
+  };
+  StateVector a = StateVector::Zero(x0.size());
+  double J = cost(a);
+  if (!std::isfinite(J)) return kInf;
+  for (int it = 0; it < std::max(iterations, 1); ++it) {
+    const StateVector Pa = P * a;
+    if (!ProjectCone(x0 + Pa, cone, K, &h, &H)) break;
+    ConeMatrix S = H * P * H.transpose() + R;
+    S = 0.5 * (S + S.transpose()).eval();
+    const Eigen::LDLT<ConeMatrix> ldlt(S);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0)) break;
+    const ConeVector y = z - h + H * Pa;
+    const ConeVector w = ldlt.solve(y);
+    if (iterations == 0) return y.dot(w);  // first order: yᵀ S⁻¹ y at x0
+    const StateVector step = H.transpose() * w - a;
+    double lambda = 1.0, J_new = cost(a + step);
+    for (int halving = 0; halving < 6 && !(J_new < J); ++halving) {
+      lambda *= 0.5;
+      J_new = cost(a + lambda * step);
+    }
+    if (!(J_new < J)) break;
+    a += lambda * step;
+    const bool converged = J - J_new < 1e-3 * (1.0 + J_new);
+    J = J_new;
+    if (converged) break;
+  }
+  return J;
+}
+
 void EkfCore::SetConeGates() {
   cone_gate_chi2_ = Quantile(kConeDof, config_.cone_gate_probability);
   cone_joint_chi2_.clear();
@@ -175,23 +217,27 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
     }
     candidates.push_back(static_cast<int>(i));
   }
-  // 1b. A lone cone whose pixels another layout cone explains nearly as well (within
-  // cone_ambiguity_margin of its own statistic, on the same S) is not fused: with the position
-  // sigma of a long outage one detection may be any cone (README, "Re-acquisition").
+  // 1b. A lone cone whose pixels another layout cone explains nearly as well (its fit within
+  // cone_ambiguity_margin of the named cone's, ConeFitCost on the prior) is not fused: with the
+  // position sigma of a long outage one detection may be any cone (README, "Re-acquisition").
   if (f.cones.size() == 1 && candidates.size() == 1 && config_.cone_ambiguity_margin > 0.0) {
     const ConeObservation& o = f.cones[0];
     const ConeVector z = ConePixels(o);
     const ConeMatrix Rn = ConeCovariance(o);
-    for (size_t j = 0; j < f.layout.size() && !candidates.empty(); ++j) {
-      if (static_cast<int>(j) == o.cone_id || !ProjectCone(s_.x, f.layout[j], f.K, &h, &H)) continue;
-      const ConeVector y = z - h;
-      const ConeMatrix S = H * s_.P * H.transpose() + Rn;
-      const Eigen::LDLT<ConeMatrix> ldlt(0.5 * (S + S.transpose()));
-      if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0)) continue;
-      if (y.dot(ldlt.solve(y)) - d2[0] < config_.cone_ambiguity_margin) {
-        res.ambiguous = 1;
-        candidates.clear();
+    const int iterations = config_.cone_ambiguity_iterations;
+    res.ambiguity_own_chi2 = iterations > 0 ? ConeFitCost(s_.x, s_.P, o.cone, f.K, z, Rn, iterations) : d2[0];
+    res.ambiguity_rival_chi2 = std::numeric_limits<double>::infinity();
+    for (size_t j = 0; j < f.layout.size(); ++j) {
+      if (static_cast<int>(j) == o.cone_id) continue;
+      const double rival = ConeFitCost(s_.x, s_.P, f.layout[j], f.K, z, Rn, iterations);
+      if (rival < res.ambiguity_rival_chi2) {
+        res.ambiguity_rival_chi2 = rival;
+        res.ambiguity_rival_id = static_cast<int>(j);
       }
+    }
+    if (res.ambiguity_rival_chi2 - res.ambiguity_own_chi2 < config_.cone_ambiguity_margin) {
+      res.ambiguous = 1;
+      candidates.clear();
     }
   }
   // 2. The remaining cones in sequence; the frame's joint NIS against chi2(4 k), else drop the
