@@ -217,35 +217,38 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
     }
     candidates.push_back(static_cast<int>(i));
   }
-  // 1b. A lone cone whose pixels another layout cone explains nearly as well (its fit within
-  // cone_ambiguity_margin of the named cone's, ConeFitCost on the prior) is not fused: with the
-  // position sigma of a long outage one detection may be any cone (README, "Re-acquisition").
-  if (f.cones.size() == 1 && candidates.size() == 1 && config_.cone_ambiguity_margin > 0.0) {
-    const ConeObservation& o = f.cones[0];
+  // 1b. A cone fused alone (the frame's only cone, or the only one its gates left) whose pixels another
+  // layout cone explains nearly as well (its fit within cone_ambiguity_margin of the named cone's,
+  // ConeFitCost on the prior) is not fused: with the position sigma of a long outage one detection may
+  // be any cone (README, "Re-acquisition").
+  const auto ambiguous_alone = [&](int i) {
+    const ConeObservation& o = f.cones[static_cast<size_t>(i)];
     const ConeVector z = ConePixels(o);
     const ConeMatrix Rn = ConeCovariance(o);
     const int iterations = config_.cone_ambiguity_iterations;
-    res.ambiguity_own_chi2 = iterations > 0 ? ConeFitCost(s_.x, s_.P, o.cone, f.K, z, Rn, iterations) : d2[0];
+    res.ambiguity_own_chi2 =
+        iterations > 0 ? ConeFitCost(prior.x, prior.P, o.cone, f.K, z, Rn, iterations) : d2[static_cast<size_t>(i)];
     res.ambiguity_rival_chi2 = std::numeric_limits<double>::infinity();
     for (size_t j = 0; j < f.layout.size(); ++j) {
       if (static_cast<int>(j) == o.cone_id) continue;
-      const double rival = ConeFitCost(s_.x, s_.P, f.layout[j], f.K, z, Rn, iterations);
+      const double rival = ConeFitCost(prior.x, prior.P, f.layout[j], f.K, z, Rn, iterations);
       if (rival < res.ambiguity_rival_chi2) {
         res.ambiguity_rival_chi2 = rival;
         res.ambiguity_rival_id = static_cast<int>(j);
       }
     }
-    if (res.ambiguity_rival_chi2 - res.ambiguity_own_chi2 < config_.cone_ambiguity_margin) {
-      res.ambiguous = 1;
-      candidates.clear();
-    }
-  }
+    return res.ambiguity_rival_chi2 - res.ambiguity_own_chi2 < config_.cone_ambiguity_margin;
+  };
   // 2. The remaining cones in sequence; the frame's joint NIS against chi2(4 k), else drop the
   // cone that disagreed most with the prior and try again (a wrong association that passed alone).
   UpdateResult result = UpdateResult::kGated;
   while (!candidates.empty()) {
     if (static_cast<int>(candidates.size()) < min_cones) {
       res.too_few = static_cast<int>(candidates.size());  // re-acquiring: no fewer than min_cones together
+      break;
+    }
+    if (candidates.size() == 1 && config_.cone_ambiguity_margin > 0.0 && ambiguous_alone(candidates[0])) {
+      res.ambiguous = 1;
       break;
     }
     s_ = prior;

@@ -84,7 +84,7 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
   if (!options.cone_log_path.empty()) {
     cone_log.open(options.cone_log_path);
     if (!cone_log) throw std::runtime_error("cannot write " + options.cone_log_path);
-    cone_log << std::setprecision(9)
+    cone_log << std::fixed << std::setprecision(6)
              << "# stamp_s cones ids result fused gated joint_dropped ambiguous too_few own_chi2 rival_chi2 rival_id "
                 "sigma_p_m\n";
   }
