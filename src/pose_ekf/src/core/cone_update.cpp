@@ -129,29 +129,43 @@ ConeVector ConePixels(const ConeObservation& o) {
 // prior term is aᵀ P a, with no inverse of P (whose quaternion block is nearly singular).
 double ConeFitCost(const StateVector& x0, const StateMatrix& P, const ConeGeometry& cone, const PinholeIntrinsics& K,
                    const ConeVector& z, const ConeMatrix& R, int iterations) {
+  // h reads q and p only, so H and a = Hᵀ w live on those 7 states: the steps are 7-dimensional.
+  constexpr int kN = 7;
+  using Vec = Eigen::Matrix<double, kN, 1>;
+  const std::array<int, kN> idx = {kQ, kQ + 1, kQ + 2, kQ + 3, kP, kP + 1, kP + 2};
+  Eigen::Matrix<double, kN, kN> P7;
+  for (int r = 0; r < kN; ++r)
+    for (int c = 0; c < kN; ++c) P7(r, c) = P(idx[r], idx[c]);
   const double kInf = std::numeric_limits<double>::infinity();
   const Eigen::LDLT<ConeMatrix> R_ldlt(R);
+  StateVector x = x0;  // x0 + P a on q and p; the other states do not enter h
+  const auto at = [&](const Vec& a) -> const StateVector& {
+    const Vec d = P7 * a;
+    for (int r = 0; r < kN; ++r) x[idx[r]] = x0[idx[r]] + d[r];
+    return x;
+  };
   ConeVector h;
   ConeJacobian H;
-  const auto cost = [&](const StateVector& a) {  // J at x0 + P a
-    if (!ProjectCone(x0 + P * a, cone, K, &h, nullptr)) return kInf;
+  const auto cost = [&](const Vec& a) {  // J at x0 + P a
+    if (!ProjectCone(at(a), cone, K, &h, nullptr)) return kInf;
     const ConeVector r = z - h;
-    return a.dot(P * a) + r.dot(R_ldlt.solve(r));
+    return a.dot(P7 * a) + r.dot(R_ldlt.solve(r));
   };
-  StateVector a = StateVector::Zero(x0.size());
+  Vec a = Vec::Zero();
   double J = cost(a);
   if (!std::isfinite(J)) return kInf;
   for (int it = 0; it < std::max(iterations, 1); ++it) {
-    const StateVector Pa = P * a;
-    if (!ProjectCone(x0 + Pa, cone, K, &h, &H)) break;
-    ConeMatrix S = H * P * H.transpose() + R;
+    if (!ProjectCone(at(a), cone, K, &h, &H)) break;
+    Eigen::Matrix<double, kConeDof, kN> H7;
+    for (int c = 0; c < kN; ++c) H7.col(c) = H.col(idx[c]);
+    ConeMatrix S = H7 * P7 * H7.transpose() + R;
     S = 0.5 * (S + S.transpose()).eval();
     const Eigen::LDLT<ConeMatrix> ldlt(S);
     if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0)) break;
-    const ConeVector y = z - h + H * Pa;
+    const ConeVector y = z - h + H7 * (P7 * a);
     const ConeVector w = ldlt.solve(y);
     if (iterations == 0) return y.dot(w);  // first order: yᵀ S⁻¹ y at x0
-    const StateVector step = H.transpose() * w - a;
+    const Vec step = H7.transpose() * w - a;
     double lambda = 1.0, J_new = cost(a + step);
     for (int halving = 0; halving < 6 && !(J_new < J); ++halving) {
       lambda *= 0.5;
