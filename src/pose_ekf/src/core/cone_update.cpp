@@ -173,7 +173,10 @@ double ConeFitCost(const StateVector& x0, const StateMatrix& P, const ConeGeomet
     }
     if (!(J_new < J)) break;
     a += lambda * step;
-    const bool converged = J - J_new < 1e-3 * (1.0 + J_new);
+    // Converged when the cost stops falling, or when the full step reached the linearised minimum yᵀ S⁻¹ y (h
+    // linear over the step: the next linearisation gives the same point; the tracked case, in one step).
+    const double tolerance = 1e-3 * (1.0 + J_new);
+    const bool converged = J - J_new < tolerance || (lambda == 1.0 && std::abs(J_new - y.dot(w)) < tolerance);
     J = J_new;
     if (converged) break;
   }
