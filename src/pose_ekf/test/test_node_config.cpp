@@ -81,6 +81,7 @@ TEST(NodeConfig, TheTableHasEveryParameterTheLoaderRead) {
                                        "reacquire_sigma_p_m",
                                        "reacquire_min_cones",
                                        "cone_ambiguity_margin",
+                                       "cone_ambiguity_iterations",
                                        "layout_file",
                                        "model_lever_arm",
                                        "alpha_from_gyro",

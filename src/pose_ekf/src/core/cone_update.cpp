@@ -124,6 +124,65 @@ ConeVector ConePixels(const ConeObservation& o) {
   return z;
 }
 
+// Gauss-Newton on J (the iterated EKF update's steps): linearised at x, the minimiser of the prior term
+// plus the linearised pixel term is x0 + P Hᵀ S⁻¹ (z - h - H (x0 - x)). Every iterate is x0 + P a, so the
+// prior term is aᵀ P a, with no inverse of P (whose quaternion block is nearly singular).
+double ConeFitCost(const StateVector& x0, const StateMatrix& P, const ConeGeometry& cone, const PinholeIntrinsics& K,
+                   const ConeVector& z, const ConeMatrix& R, int iterations) {
+  // h reads q and p only, so H and a = Hᵀ w live on those 7 states: the steps are 7-dimensional.
+  constexpr int kN = 7;
+  using Vec = Eigen::Matrix<double, kN, 1>;
+  const std::array<int, kN> idx = {kQ, kQ + 1, kQ + 2, kQ + 3, kP, kP + 1, kP + 2};
+  Eigen::Matrix<double, kN, kN> P7;
+  for (int r = 0; r < kN; ++r)
+    for (int c = 0; c < kN; ++c) P7(r, c) = P(idx[r], idx[c]);
+  const double kInf = std::numeric_limits<double>::infinity();
+  const Eigen::LDLT<ConeMatrix> R_ldlt(R);
+  StateVector x = x0;  // x0 + P a on q and p; the other states do not enter h
+  const auto at = [&](const Vec& a) -> const StateVector& {
+    const Vec d = P7 * a;
+    for (int r = 0; r < kN; ++r) x[idx[r]] = x0[idx[r]] + d[r];
+    return x;
+  };
+  ConeVector h;
+  ConeJacobian H;
+  const auto cost = [&](const Vec& a) {  // J at x0 + P a
+    if (!ProjectCone(at(a), cone, K, &h, nullptr)) return kInf;
+    const ConeVector r = z - h;
+    return a.dot(P7 * a) + r.dot(R_ldlt.solve(r));
+  };
+  Vec a = Vec::Zero();
+  double J = cost(a);
+  if (!std::isfinite(J)) return kInf;
+  for (int it = 0; it < std::max(iterations, 1); ++it) {
+    if (!ProjectCone(at(a), cone, K, &h, &H)) break;
+    Eigen::Matrix<double, kConeDof, kN> H7;
+    for (int c = 0; c < kN; ++c) H7.col(c) = H.col(idx[c]);
+    ConeMatrix S = H7 * P7 * H7.transpose() + R;
+    S = 0.5 * (S + S.transpose()).eval();
+    const Eigen::LDLT<ConeMatrix> ldlt(S);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0)) break;
+    const ConeVector y = z - h + H7 * (P7 * a);
+    const ConeVector w = ldlt.solve(y);
+    if (iterations == 0) return y.dot(w);  // first order: yᵀ S⁻¹ y at x0
+    const Vec step = H7.transpose() * w - a;
+    double lambda = 1.0, J_new = cost(a + step);
+    for (int halving = 0; halving < 6 && !(J_new < J); ++halving) {
+      lambda *= 0.5;
+      J_new = cost(a + lambda * step);
+    }
+    if (!(J_new < J)) break;
+    a += lambda * step;
+    // Converged when the cost stops falling, or when the full step reached the linearised minimum yᵀ S⁻¹ y (h
+    // linear over the step: the next linearisation gives the same point; the tracked case, in one step).
+    const double tolerance = 1e-3 * (1.0 + J_new);
+    const bool converged = J - J_new < tolerance || (lambda == 1.0 && std::abs(J_new - y.dot(w)) < tolerance);
+    J = J_new;
+    if (converged) break;
+  }
+  return J;
+}
+
 void EkfCore::SetConeGates() {
   cone_gate_chi2_ = Quantile(kConeDof, config_.cone_gate_probability);
   cone_joint_chi2_.clear();
@@ -175,31 +234,38 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
     }
     candidates.push_back(static_cast<int>(i));
   }
-  // 1b. A lone cone whose pixels another layout cone explains nearly as well (within
-  // cone_ambiguity_margin of its own statistic, on the same S) is not fused: with the position
-  // sigma of a long outage one detection may be any cone (README, "Re-acquisition").
-  if (f.cones.size() == 1 && candidates.size() == 1 && config_.cone_ambiguity_margin > 0.0) {
-    const ConeObservation& o = f.cones[0];
+  // 1b. A cone fused alone (the frame's only cone, or the only one its gates left) whose pixels another
+  // layout cone explains nearly as well (its fit within cone_ambiguity_margin of the named cone's,
+  // ConeFitCost on the prior) is not fused: with the position sigma of a long outage one detection may
+  // be any cone (README, "Re-acquisition").
+  const auto ambiguous_alone = [&](int i) {
+    const ConeObservation& o = f.cones[static_cast<size_t>(i)];
     const ConeVector z = ConePixels(o);
     const ConeMatrix Rn = ConeCovariance(o);
-    for (size_t j = 0; j < f.layout.size() && !candidates.empty(); ++j) {
-      if (static_cast<int>(j) == o.cone_id || !ProjectCone(s_.x, f.layout[j], f.K, &h, &H)) continue;
-      const ConeVector y = z - h;
-      const ConeMatrix S = H * s_.P * H.transpose() + Rn;
-      const Eigen::LDLT<ConeMatrix> ldlt(0.5 * (S + S.transpose()));
-      if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0)) continue;
-      if (y.dot(ldlt.solve(y)) - d2[0] < config_.cone_ambiguity_margin) {
-        res.ambiguous = 1;
-        candidates.clear();
+    const int iterations = config_.cone_ambiguity_iterations;
+    res.ambiguity_own_chi2 =
+        iterations > 0 ? ConeFitCost(prior.x, prior.P, o.cone, f.K, z, Rn, iterations) : d2[static_cast<size_t>(i)];
+    res.ambiguity_rival_chi2 = std::numeric_limits<double>::infinity();
+    for (size_t j = 0; j < f.layout.size(); ++j) {
+      if (static_cast<int>(j) == o.cone_id) continue;
+      const double rival = ConeFitCost(prior.x, prior.P, f.layout[j], f.K, z, Rn, iterations);
+      if (rival < res.ambiguity_rival_chi2) {
+        res.ambiguity_rival_chi2 = rival;
+        res.ambiguity_rival_id = static_cast<int>(j);
       }
     }
-  }
+    return res.ambiguity_rival_chi2 - res.ambiguity_own_chi2 < config_.cone_ambiguity_margin;
+  };
   // 2. The remaining cones in sequence; the frame's joint NIS against chi2(4 k), else drop the
   // cone that disagreed most with the prior and try again (a wrong association that passed alone).
   UpdateResult result = UpdateResult::kGated;
   while (!candidates.empty()) {
     if (static_cast<int>(candidates.size()) < min_cones) {
       res.too_few = static_cast<int>(candidates.size());  // re-acquiring: no fewer than min_cones together
+      break;
+    }
+    if (candidates.size() == 1 && config_.cone_ambiguity_margin > 0.0 && ambiguous_alone(candidates[0])) {
+      res.ambiguous = 1;
       break;
     }
     s_ = prior;

@@ -58,6 +58,10 @@ std::string EkfConfig::Validate() const {
   }
   Check(err, "reacquire_sigma_p_m", reacquire_sigma_p_m, 0.0, true);
   Check(err, "cone_ambiguity_margin", cone_ambiguity_margin, 0.0, true);
+  if (cone_ambiguity_iterations < 0 || cone_ambiguity_iterations > 50) {
+    err << "cone_ambiguity_iterations must be in [0, 50], 0 takes the first-order statistic (got "
+        << cone_ambiguity_iterations << "); ";
+  }
   if (reacquire_min_cones < 1) {
     err << "reacquire_min_cones must be >= 1, 1 fuses lone cones while re-acquiring (got " << reacquire_min_cones
         << "); ";

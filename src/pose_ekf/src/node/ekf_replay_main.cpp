@@ -1,5 +1,5 @@
 // rosrun pose_ekf ekf_replay --bag IN.bag [--config FILE] --output traj.txt
-//   [--camera-topic cone_tracker/pose] [--imu-topic imu/data_raw]
+//   [--camera-topic cone_tracker/pose] [--imu-topic imu/data_raw] [--cone-log FILE]
 #include <cstring>
 #include <iostream>
 #include <string>
@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
       o.camera_topic = value;
     else if (key == "--imu-topic")
       o.imu_topic = value;
+    else if (key == "--cone-log")
+      o.cone_log_path = value;
     else {
       std::cerr << "ekf_replay: unknown option " << key << "\n";
       return 2;
@@ -28,7 +30,7 @@ int main(int argc, char** argv) {
   }
   if (o.bag_path.empty() || o.output_path.empty() || argc % 2 == 0) {
     std::cerr << "usage: ekf_replay --bag IN.bag [--config FILE.yaml] --output traj.txt "
-                 "[--camera-topic T] [--imu-topic T]\n";
+                 "[--camera-topic T] [--imu-topic T] [--cone-log FILE]\n";
     return 2;
   }
   try {

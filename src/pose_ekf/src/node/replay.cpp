@@ -80,6 +80,14 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
     return rotations[frame] = q;
   };
 
+  std::ofstream cone_log;
+  if (!options.cone_log_path.empty()) {
+    cone_log.open(options.cone_log_path);
+    if (!cone_log) throw std::runtime_error("cannot write " + options.cone_log_path);
+    cone_log << std::fixed << std::setprecision(6)
+             << "# stamp_s cones ids result fused gated joint_dropped ambiguous too_few own_chi2 rival_chi2 rival_id "
+                "sigma_p_m\n";
+  }
   double last_written = -1.0;
   auto write = [&] {
     AdapterOutputs o;
@@ -109,7 +117,17 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
     } else if (SameTopic(m.getTopic(), options.observations_topic)) {
       if (auto msg = m.instantiate<cone_tracker::ConeObservations>()) {
         ++summary.observation_messages;
-        adapter.HandleObservations(*msg, &why);  // used with camera_update: cones and a layout_file
+        const AddResult r = adapter.HandleObservations(*msg, &why);  // with camera_update: cones and a layout_file
+        if (cone_log.is_open()) {
+          const bool ran = r == AddResult::kApplied || r == AddResult::kReplayed || r == AddResult::kGated;
+          const ConeFrameResult none, &f = ran ? adapter.buffer().last_cone_frame() : none;
+          cone_log << msg->header.stamp.toSec() << ' ' << msg->cones.size() << ' ';
+          for (size_t i = 0; i < msg->cones.size(); ++i) cone_log << (i ? "," : "") << msg->cones[i].cone_id;
+          if (msg->cones.empty()) cone_log << '-';
+          cone_log << ' ' << static_cast<int>(r) << ' ' << f.fused << ' ' << f.gated << ' ' << f.joint_dropped << ' '
+                   << f.ambiguous << ' ' << f.too_few << ' ' << f.ambiguity_own_chi2 << ' ' << f.ambiguity_rival_chi2
+                   << ' ' << f.ambiguity_rival_id << ' ' << adapter.buffer().PositionSigmaM() << '\n';
+        }
       }
     }
   }

@@ -98,6 +98,19 @@ struct ConeFrameResult {
   double nis = 0.0;       // the fused cones' joint NIS (the sum of the sequential ones)
   double joint_threshold = 0.0;
   double worst_gate_chi2 = 0.0;  // the largest per-cone statistic of the frame
+  // The lone-cone ambiguity test (EkfConfig::cone_ambiguity_margin), when it ran: the fit statistic of the
+  // cone the tracker named and of the best other layout cone (-1: none could be projected).
+  double ambiguity_own_chi2 = 0.0;
+  double ambiguity_rival_chi2 = 0.0;
+  int ambiguity_rival_id = -1;
 };
+
+// The smallest cost J(x) = (x - x0)ᵀ P⁻¹ (x - x0) + (z - h(x))ᵀ R⁻¹ (z - h(x)) with which `cone` explains
+// the pixels z: the prior's Mahalanobis distance of the state correction plus the pixel fit, minimised by
+// `iterations` Gauss-Newton steps (those of the iterated EKF update, with step halving). 0 iterations: the
+// first-order statistic yᵀ S⁻¹ y at x0, which the first step reaches when h is linear. Infinite when the
+// cone cannot be projected at x0.
+double ConeFitCost(const StateVector& x0, const StateMatrix& P, const ConeGeometry& cone, const PinholeIntrinsics& K,
+                   const ConeVector& z, const ConeMatrix& R, int iterations);
 
 }  // namespace pose_ekf

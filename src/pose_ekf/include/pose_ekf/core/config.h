@@ -91,6 +91,11 @@ struct EkfConfig {
   // filter's own check of the tracker's association, scaled by its covariance (README,
   // "Re-acquisition"). 0 = off.
   double cone_ambiguity_margin = 9.0;
+  // How the statistics of that test are taken: the fit of each layout cone to the pixels, iterated
+  // (ConeFitCost, Gauss-Newton on the prior and the pinhole) so that a rival that needs a large pose
+  // correction is judged by that correction's Mahalanobis distance, not by the linearisation at the
+  // prediction (which scores a cone 1.5 m away ~80 where the fit gives ~1). 0 = first order.
+  int cone_ambiguity_iterations = 5;
 
   // Options beyond the thesis.
   QuatIntegration quat_integration = QuatIntegration::kFirstOrder;

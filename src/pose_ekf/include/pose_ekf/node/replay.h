@@ -16,6 +16,9 @@ struct ReplayOptions {
   std::string imu_topic = "imu/data_raw";
   std::string observations_topic = "cone_tracker/observations";  // per-cone updates (config.layout_file)
   NodeConfig config;
+  // Optional: one line per cone observation message (stamp, cone ids, what became of it, the lone-cone
+  // ambiguity statistics, the position sigma after it), for looking at re-acquisitions frame by frame.
+  std::string cone_log_path;
 };
 
 struct ReplaySummary {
