@@ -73,6 +73,15 @@ TEST(OutagePlan, SiteLookAwayLooksDownAtNoConeThenAtExactlyTwo) {
   }
 }
 
+TEST(OutagePlan, ACutWalkIsTheFirstPartOfTheFullOneOutagesIncluded) {
+  const Scenario full = TestScenario("site_look_away", 2, 0, 0), cut = TestScenario("site_look_away", 2, 24.0, 0.5);
+  const Trajectory a(full.trajectory), b(cut.trajectory);
+  for (double t = 0.0; t < 24.0; t += 0.25) {
+    EXPECT_TRUE(a.At(t).p_camera_in_cones_m.isApprox(b.At(t).p_camera_in_cones_m, 1e-12)) << t;
+    EXPECT_TRUE(a.At(t).R_cones_camera.isApprox(b.At(t).R_cones_camera, 1e-12)) << t;
+  }
+}
+
 TEST(OutagePlan, ALayoutWithoutALoneTwoConeViewIsRefusedNamingTheOutage) {
   Scenario s = TestScenario("site_look_away", 1, 0, 0);
   RandomLayoutConfig dense;  // 30 cones in 19 m x 19 m: some third cone is always in the pair's view

@@ -55,6 +55,9 @@ struct TrajectoryConfig {
   double survey_loops = 1.15;
   Eigen::Vector2d survey_center_m = Eigen::Vector2d::Zero();
   double survey_sweep_m = 1.0;  // half-width of the look target's sweep across the layout
+  // The loops take this long (0: the duration, so a shortened walk still closes them); > 0 makes a
+  // shortened walk the first part of the full one (site_look_away: its outages are planned on that).
+  double survey_loop_s = 0.0;
   std::string Validate() const;
 };
 

@@ -175,6 +175,7 @@ bool MakeScenario(const std::string& name, uint64_t seed, const std::string& lay
     t.survey_sweep_m = 5.0;  // the look swings far across the site
     t.min_distance_m = 5.0;  // 6 m +- 8 %, 1.2-1.8 m high, from the look target
     t.max_distance_m = 7.0;
+    if (name == "site_look_away") t.survey_loop_s = t.duration_s;  // cut short, the same walk and outages
   } else if (name == "indoor") {
     t.duration_s = 20.0;
     s.layout = "thesis_indoor.yaml";

@@ -46,8 +46,9 @@ std::string TrajectoryConfig::Validate() const {
     err << "need 0.2 < min_distance_m <= max_distance_m";
   else if (!(min_elevation_deg >= 0.0 && max_elevation_deg <= 85.0 && min_elevation_deg <= max_elevation_deg))
     err << "need 0 <= min_elevation_deg <= max_elevation_deg <= 85";
-  else if (!(survey_radius_m >= 0.0 && survey_radius_m < 200.0 && survey_loops > 0.0 && survey_sweep_m >= 0.0))
-    err << "need 0 <= survey_radius_m < 200, survey_loops > 0 and survey_sweep_m >= 0";
+  else if (!(survey_radius_m >= 0.0 && survey_radius_m < 200.0 && survey_loops > 0.0 && survey_sweep_m >= 0.0 &&
+             survey_loop_s >= 0.0))
+    err << "need 0 <= survey_radius_m < 200, survey_loops > 0, survey_sweep_m >= 0 and survey_loop_s >= 0";
   if (!err.str().empty()) return err.str();
   std::vector<Segment> sorted = segments;
   std::sort(sorted.begin(), sorted.end(), [](const Segment& a, const Segment& b) { return a.start_s < b.start_s; });
@@ -84,7 +85,8 @@ Trajectory::Trajectory(const TrajectoryConfig& config) : config_(config) {
   }
   shake_phase_ = Eigen::Vector3d(phase(rng), phase(rng), phase(rng));
   // The loop closes over the walk's motion time (still segments stop it).
-  survey_rate_rad_s_ = 2.0 * kPi * config.survey_loops / std::max(1.0, Warp(config.duration_s));
+  const double loop_s = config.survey_loop_s > 0.0 ? config.survey_loop_s : config.duration_s;
+  survey_rate_rad_s_ = 2.0 * kPi * config.survey_loops / std::max(1.0, Warp(loop_s));
 }
 
 double Trajectory::Window(const Segment& seg, double t) const {
