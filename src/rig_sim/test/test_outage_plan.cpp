@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "rig_sim/outage_plan.h"
@@ -42,7 +43,7 @@ InView ConesInView(const Scenario& s, const TruePose& pose, double min_px) {
 }  // namespace
 
 TEST(OutagePlan, SiteLookAwayLooksDownAtNoConeThenAtExactlyTwo) {
-  for (uint64_t seed : {1u, 4u}) {
+  for (uint64_t seed : {1u, 4u, 6u}) {
     const Scenario s = TestScenario("site_look_away", seed, 0, 0);  // full size: the plan's pixels
     Scenario copy = s;
     std::vector<PlannedOutage> planned;
@@ -60,6 +61,10 @@ TEST(OutagePlan, SiteLookAwayLooksDownAtNoConeThenAtExactlyTwo) {
         const InView v = ConesInView(s, traj.At(t), 24.0);  // OutagePlanConfig::other_max_px
         EXPECT_EQ(v.whole_tall, (std::set<int>{o.cone_a, o.cone_b})) << "seed " << seed << " at " << t << " s";
       }
+      // No turn faster than the plan's limit (a slerp the other way round would jump).
+      for (double t = o.away_start_s; t < o.pair_end_s + ramp_s; t += 0.01)
+        ASSERT_LT(traj.OmegaCamera(t).norm() * 180.0 / M_PI, OutagePlanConfig().max_rate_deg_s + 1.0)
+            << "seed " << seed << " at " << t << " s";
       // The walk's own view returns after the pair's hold, the walk's position all along.
       const double back_s = o.pair_end_s + ramp_s + 0.1;
       TrajectoryConfig walk = s.trajectory;

@@ -31,7 +31,8 @@ struct OutagePlanConfig {
   double pair_margin_px = 40.0;
   double other_margin_px = 10.0;
   double other_max_px = 24.0;
-  double min_range_m = 1.5;  // camera to a pair cone's base
+  double max_rate_deg_s = 250.0;  // the turns stay below this (the Crista saturates at 300 deg/s)
+  double min_range_m = 1.5;       // camera to a pair cone's base
   double max_range_m = 10.0;
 };
 

@@ -7,6 +7,8 @@
 #include <random>
 #include <sstream>
 
+#include <Eigen/Geometry>
+
 namespace rig_sim {
 namespace {
 
@@ -120,6 +122,13 @@ class Planner {
         const bool whole = ViewOf(cam, pose, cones[k], 0.0).whole;  // a cone cut by the border fails the border gate
         if (whole && v.length_px > c_.other_max_px && ++resolvable > 2) return cand;
       }
+    }
+    // No turn faster than the rig's gyros measure: a slerp between looks nearly 180 deg apart may take
+    // the other way round from one frame to the next (seen: a 112 deg jump on a 30-cone layout).
+    const double dt = 0.01;
+    for (double t = t0; t < t0 + seg.duration_s; t += dt) {
+      const Eigen::AngleAxisd step(traj.At(t).R_cones_camera.transpose() * traj.At(t + dt).R_cones_camera);
+      if (step.angle() / dt > c_.max_rate_deg_s * kDeg) return cand;
     }
     cand.score = score;
     cand.outage = {t0, away_s, t_turn, t_turn + r + c_.pair_hold_s, i, j};
