@@ -6,7 +6,8 @@
 # Usage: scripts/eval_tracking.sh [OUT_DIR] [SEED...]   (needs a built, sourced workspace)
 # EVAL_SCENARIOS overrides the scenarios, EVAL_ARGS adds replay.launch arguments (e.g. ekf_config:=...).
 # EVAL_LAYOUT: the layout file the bags are made with and tracked against; by default asymmetric.yaml,
-# except the `site` scenario, which keeps its own (rig_model's site.yaml; `make eval-site`).
+# except the `site` and `site_look_away` scenarios, which keep their own (rig_model's site.yaml; `make eval-site`).
+# site_look_away bags also get the re-acquisition figures after each outage (ar_bringup's site_reacquire.py).
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 OUT="$(realpath -m "${1:-$ROOT/out/eval_tracking}")"
@@ -17,7 +18,7 @@ SCENARIOS=(${EVAL_SCENARIOS:-handheld look_away})
 LAYOUTS="$(rospack find rig_model)/config/layouts"
 layout_of() {  # the scenario's layout file
   if [[ -n "${EVAL_LAYOUT:-}" ]]; then realpath -m "$EVAL_LAYOUT"
-  elif [[ "$1" == site ]]; then echo "$LAYOUTS/site.yaml"
+  elif [[ "$1" == site* ]]; then echo "$LAYOUTS/site.yaml"
   else echo "$LAYOUTS/asymmetric.yaml"; fi
 }
 mkdir -p "$OUT"
@@ -32,7 +33,7 @@ for scenario in "${SCENARIOS[@]}"; do
     name="${scenario}_seed${seed}"
     bag="$OUT/$name.input.bag"
     rosrun rig_sim make_bag --scenario "$scenario" --seed "$seed" --scale 0.5 --layout "$LAYOUT" \
-      --output "$bag" >/dev/null
+      --output "$bag" >"$OUT/$name.make_bag.txt" || { cat "$OUT/$name.make_bag.txt" >&2; exit 1; }
     rm -f "$OUT/$name.bag"
     # shellcheck disable=SC2086
     roslaunch -p "$port" "$ROOT/launch/replay.launch" bag:="$bag" layout:="$LAYOUT" overlay:=false \
@@ -44,11 +45,15 @@ for scenario in "${SCENARIOS[@]}"; do
     grep -E '^(position_rms_m|orientation_rms_deg|view_)' "$OUT/$name.txt" |
       grep -E 'position_rms_m|orientation_rms_deg|updated_fraction|frames ' | sed 's/^/  /'
     grep -E '^(tracker_poses|images|outages) ' "$OUT/$name.txt" | sed 's/^/  /' || true
-    if [[ "$scenario" == site ]]; then  # nearly every cone is in the image there: split by the resolved ones too
+    if [[ "$scenario" == site* ]]; then  # nearly every cone is in the image there: split by the resolved ones too
       for px in 15 30; do
         /usr/bin/python3 "$ROOT/scripts/site_view_split.py" --min-px "$px" "$OUT/$name.bag" | tail -1 |
           sed "s|^.*\.bag:|  cones >= $px px tall:|"
       done
+    fi
+    if [[ "$scenario" == site_look_away ]]; then
+      grep 'outage' "$OUT/$name.make_bag.txt" | sed 's/^make_bag: /  /'
+      rosrun ar_bringup site_reacquire.py "$OUT/$name.bag" | sed 's/^/  /' || echo "  site_reacquire.py failed"
     fi
   done
 done

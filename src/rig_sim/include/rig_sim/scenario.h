@@ -47,8 +47,11 @@ const std::vector<ScenarioInfo>& ListLooks();
 bool ApplyLook(const std::string& name, Scenario* s, std::string* error);
 
 // Fits a scenario's walk to its scene after the layout changed (make_bag --layout): the `survey`
-// walk circles the layout's cones 2.2 m outside the farthest one; other scenarios are unchanged.
-void FitTrajectoryToScene(Scenario* s);
+// walk circles the layout's cones 2.2 m outside the farthest one; `site_look_away` plans its outages
+// on the layout (outage_plan.h); other scenarios are unchanged. Needs the seeds set (MakeScenario) and
+// the full-size camera (before ShortenScenario). False with a message when the outages cannot be planned
+// on the layout (*s keeps its previous segments then).
+bool FitTrajectoryToScene(Scenario* s, std::string* error = nullptr);
 
 // The scenario with a shorter duration and/or a smaller image (for samples and tests).
 void ShortenScenario(double duration_s, double image_scale, Scenario* s);

@@ -12,7 +12,16 @@
 
 namespace rig_sim {
 
-enum class SegmentKind { kStill, kShake, kLookAway };
+enum class SegmentKind { kStill, kShake, kLookAway, kLookAt };
+
+// A look of a kLookAt segment: from start_s (seconds into the segment) the camera turns, over the
+// segment's ramp_s, to look at target_m (in `cones`, horizon level) from wherever the walk has it;
+// with `relative`, target_m is an offset from the camera (e.g. down at the ground ahead of the feet).
+struct LookKey {
+  double start_s = 0.0;
+  Eigen::Vector3d target_m = Eigen::Vector3d::Zero();
+  bool relative = false;
+};
 
 struct Segment {
   SegmentKind kind = SegmentKind::kStill;
@@ -21,6 +30,10 @@ struct Segment {
   double ramp_s = 0.5;         // C2 smooth step in and out
   double amplitude_deg = 0.0;  // shake: per-axis amplitude; look-away: pan angle
   double frequency_hz = 0.0;   // shake only
+  // kLookAt only: the looks in order, each turned to over ramp_s from the previous one (the first
+  // from the walk's own view); the last is held until duration_s - ramp_s, then the camera turns
+  // back to the walk's view. The walk's position goes on meanwhile.
+  std::vector<LookKey> looks = {};
 };
 
 struct TrajectoryConfig {
@@ -42,6 +55,9 @@ struct TrajectoryConfig {
   double survey_loops = 1.15;
   Eigen::Vector2d survey_center_m = Eigen::Vector2d::Zero();
   double survey_sweep_m = 1.0;  // half-width of the look target's sweep across the layout
+  // The loops take this long (0: the duration, so a shortened walk still closes them); > 0 makes a
+  // shortened walk the first part of the full one (site_look_away: its outages are planned on that).
+  double survey_loop_s = 0.0;
   std::string Validate() const;
 };
 
@@ -68,6 +84,7 @@ class Trajectory {
   double Window(const Segment& seg, double t_s) const;
   TruePose BaseAt(double s) const;
   TruePose SurveyAt(double s) const;
+  Eigen::Matrix3d LookAtSegment(const Segment& seg, double t_s, const TruePose& walk) const;
 
   TrajectoryConfig config_;
   // Seeded sinusoid parameters: frequencies (Hz) and phases (rad).

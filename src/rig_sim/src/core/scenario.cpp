@@ -1,5 +1,7 @@
 #include "rig_sim/scenario.h"
 
+#include "rig_sim/outage_plan.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -41,6 +43,9 @@ const std::vector<ScenarioInfo>& ListScenarios() {
        "60 s walk through a site of 14 cones over about 19 m x 19 m (site.yaml): one loop between an inner "
        "ring and an outer ring, 1.5-6 m from the nearest cones, looking across the site, often with only "
        "one or two cones in view"},
+      {"site_look_away",
+       "the site walk (60 s, site.yaml or --layout) with two outages: the walker looks down at the ground "
+       "ahead for 2-8 s (no cone in view), then at exactly two cones for 2.5 s before the walk's view returns"},
   };
   return list;
 }
@@ -161,7 +166,7 @@ bool MakeScenario(const std::string& name, uint64_t seed, const std::string& lay
     s.layout = "survey.yaml";
     t.segments = {Still(-1.0, 3.0)};
     t.look_target_height_m = 0.2;
-  } else if (name == "site") {
+  } else if (name == "site" || name == "site_look_away") {
     t.duration_s = 60.0;
     s.layout = "site.yaml";
     t.segments = {Still(-1.0, 3.0)};
@@ -170,6 +175,7 @@ bool MakeScenario(const std::string& name, uint64_t seed, const std::string& lay
     t.survey_sweep_m = 5.0;  // the look swings far across the site
     t.min_distance_m = 5.0;  // 6 m +- 8 %, 1.2-1.8 m high, from the look target
     t.max_distance_m = 7.0;
+    if (name == "site_look_away") t.survey_loop_s = t.duration_s;  // cut short, the same walk and outages
   } else if (name == "indoor") {
     t.duration_s = 20.0;
     s.layout = "thesis_indoor.yaml";
@@ -189,19 +195,20 @@ bool MakeScenario(const std::string& name, uint64_t seed, const std::string& lay
   for (const auto& i : ListScenarios())
     if (i.name == name) s.description = i.description;
   if (!LoadSceneYaml(layouts_dir + "/" + s.layout, &s.scene, error)) return false;
-  FitTrajectoryToScene(&s);
   // Independent streams per component, all from the one seed.
   t.seed = seed;
   s.imu.seed = seed * 0x9E3779B97F4A7C15ull + 1;
   s.render.seed = seed * 0xC2B2AE3D27D4EB4Full + 2;
+  if (!FitTrajectoryToScene(&s, error)) return false;
   s.base_render = s.render;
   if (name == "realistic" && !ApplyLook("realistic", &s, error)) return false;
   *out = s;
   return true;
 }
 
-void FitTrajectoryToScene(Scenario* s) {
-  if (s->name != "survey" || s->scene.cones.empty()) return;
+bool FitTrajectoryToScene(Scenario* s, std::string* error) {
+  if (s->name == "site_look_away") return PlanOutages(OutagePlanConfig(), s, nullptr, error);
+  if (s->name != "survey" || s->scene.cones.empty()) return true;
   Eigen::Vector2d lo = s->scene.cones[0].base_m.head<2>(), hi = lo;
   for (const ConeSpec& c : s->scene.cones) {
     lo = lo.cwiseMin(c.base_m.head<2>());
@@ -218,6 +225,7 @@ void FitTrajectoryToScene(Scenario* s) {
   const double off_m = centre.norm(), rise_m = 1.8 - t.look_target_height_m;
   t.min_distance_m = std::max(0.3, 0.92 * t.survey_radius_m - off_m);
   t.max_distance_m = std::hypot(1.08 * t.survey_radius_m + off_m, rise_m);
+  return true;
 }
 
 void ShortenScenario(double duration_s, double image_scale, Scenario* s) {

@@ -22,6 +22,15 @@ Eigen::Matrix3d ExpSo3(const Eigen::Vector3d& r) {
   return Eigen::AngleAxisd(a, r / a).toRotationMatrix();
 }
 
+// Camera_optical looking from p at target: z forward, x right (horizontal), y down.
+Eigen::Matrix3d LookAt(const Eigen::Vector3d& p, const Eigen::Vector3d& target) {
+  const Eigen::Vector3d z = (target - p).normalized();
+  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
+  Eigen::Matrix3d R;
+  R << x, z.cross(x), z;
+  return R;
+}
+
 }  // namespace
 
 double SmoothStep(double x) {
@@ -37,8 +46,9 @@ std::string TrajectoryConfig::Validate() const {
     err << "need 0.2 < min_distance_m <= max_distance_m";
   else if (!(min_elevation_deg >= 0.0 && max_elevation_deg <= 85.0 && min_elevation_deg <= max_elevation_deg))
     err << "need 0 <= min_elevation_deg <= max_elevation_deg <= 85";
-  else if (!(survey_radius_m >= 0.0 && survey_radius_m < 200.0 && survey_loops > 0.0 && survey_sweep_m >= 0.0))
-    err << "need 0 <= survey_radius_m < 200, survey_loops > 0 and survey_sweep_m >= 0";
+  else if (!(survey_radius_m >= 0.0 && survey_radius_m < 200.0 && survey_loops > 0.0 && survey_sweep_m >= 0.0 &&
+             survey_loop_s >= 0.0))
+    err << "need 0 <= survey_radius_m < 200, survey_loops > 0, survey_sweep_m >= 0 and survey_loop_s >= 0";
   if (!err.str().empty()) return err.str();
   std::vector<Segment> sorted = segments;
   std::sort(sorted.begin(), sorted.end(), [](const Segment& a, const Segment& b) { return a.start_s < b.start_s; });
@@ -46,6 +56,15 @@ std::string TrajectoryConfig::Validate() const {
     const Segment& s = sorted[i];
     if (!(s.ramp_s > 0.0) || !(s.duration_s >= 2.0 * s.ramp_s))
       return "segment at " + std::to_string(s.start_s) + " s: need ramp_s > 0 and duration_s >= 2 ramp_s";
+    if (s.kind == SegmentKind::kLookAt) {
+      if (s.looks.empty()) return "look-at segment at " + std::to_string(s.start_s) + " s: no looks";
+      for (size_t k = 0; k < s.looks.size(); ++k) {
+        const double next_s = k + 1 < s.looks.size() ? s.looks[k + 1].start_s : s.duration_s - s.ramp_s;
+        if (!(s.looks[k].start_s >= 0.0 && s.looks[k].start_s + s.ramp_s <= next_s))
+          return "look-at segment at " + std::to_string(s.start_s) + " s: looks[" + std::to_string(k) +
+                 "] must start at >= 0 s and turn (ramp_s) before the next look or the turn back";
+      }
+    }
     if (i + 1 < sorted.size() && s.start_s + s.duration_s > sorted[i + 1].start_s)
       return "segments at " + std::to_string(s.start_s) + " s and " + std::to_string(sorted[i + 1].start_s) +
              " s overlap";
@@ -66,7 +85,8 @@ Trajectory::Trajectory(const TrajectoryConfig& config) : config_(config) {
   }
   shake_phase_ = Eigen::Vector3d(phase(rng), phase(rng), phase(rng));
   // The loop closes over the walk's motion time (still segments stop it).
-  survey_rate_rad_s_ = 2.0 * kPi * config.survey_loops / std::max(1.0, Warp(config.duration_s));
+  const double loop_s = config.survey_loop_s > 0.0 ? config.survey_loop_s : config.duration_s;
+  survey_rate_rad_s_ = 2.0 * kPi * config.survey_loops / std::max(1.0, Warp(loop_s));
 }
 
 double Trajectory::Window(const Segment& seg, double t) const {
@@ -121,11 +141,7 @@ TruePose Trajectory::SurveyAt(double s) const {
                                     0.5 * c.survey_sweep_m * std::sin(2.0 * a + phase_[4]) * radial;
   const Eigen::Vector3d p(p_xy.x(), p_xy.y(), height_m);
   const Eigen::Vector3d target(target_xy.x(), target_xy.y(), c.look_target_height_m);
-  const Eigen::Vector3d z = (target - p).normalized();
-  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
-  const Eigen::Vector3d y = z.cross(x);
-  Eigen::Matrix3d R;
-  R << x, y, z;
+  const Eigen::Matrix3d R = LookAt(p, target);
   auto wave = [&](int i) { return std::sin(2.0 * kPi * freq_[i] * s + phase_[i]); };
   const double j = c.jitter_deg * kDeg;
   const Eigen::Vector3d tremor_rad(j * wave(9), j * wave(10), 4.0 * j * wave(11));
@@ -171,7 +187,7 @@ TruePose Trajectory::At(double t) const {
   Eigen::Vector3d shake_m = Eigen::Vector3d::Zero();
   double pan_rad = 0.0;
   for (const Segment& seg : config_.segments) {
-    if (seg.kind == SegmentKind::kStill) continue;
+    if (seg.kind == SegmentKind::kStill || seg.kind == SegmentKind::kLookAt) continue;
     // Shakes and look-aways never overlap stills, so s = t - const inside them.
     const double w = Window(seg, t);
     if (w == 0.0) continue;
@@ -188,7 +204,25 @@ TruePose Trajectory::At(double t) const {
   // Pan about the world vertical keeps the horizon level while the cones leave the view.
   pose.R_cones_camera = Eigen::AngleAxisd(pan_rad, Eigen::Vector3d::UnitZ()) * pose.R_cones_camera * ExpSo3(shake_rad);
   pose.p_camera_in_cones_m += pose.R_cones_camera * shake_m;
+  for (const Segment& seg : config_.segments)
+    if (seg.kind == SegmentKind::kLookAt && t > seg.start_s && t < seg.start_s + seg.duration_s)
+      pose.R_cones_camera = LookAtSegment(seg, t, pose);
   return pose;
+}
+
+Eigen::Matrix3d Trajectory::LookAtSegment(const Segment& seg, double t, const TruePose& walk) const {
+  // Chained slerps: each look's smooth step takes the orientation from the previous look to its own;
+  // looks not yet begun weigh 0, so between turns the camera holds a pure look-at.
+  const Eigen::Quaterniond q_walk(walk.R_cones_camera);
+  Eigen::Quaterniond q = q_walk;
+  for (const LookKey& k : seg.looks) {
+    const double w = SmoothStep((t - seg.start_s - k.start_s) / seg.ramp_s);
+    if (w <= 0.0) break;
+    const Eigen::Vector3d& p = walk.p_camera_in_cones_m;
+    q = q.slerp(w, Eigen::Quaterniond(LookAt(p, k.relative ? Eigen::Vector3d(p + k.target_m) : k.target_m)));
+  }
+  const double back = SmoothStep((t - (seg.start_s + seg.duration_s - seg.ramp_s)) / seg.ramp_s);
+  return q.slerp(back, q_walk).normalized().toRotationMatrix();
 }
 
 Eigen::Vector3d Trajectory::OmegaCamera(double t) const {

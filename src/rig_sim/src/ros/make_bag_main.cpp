@@ -4,7 +4,9 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <vector>
 
+#include "rig_sim/outage_plan.h"
 #include "rig_sim/ros/bag_writer.h"
 
 namespace {
@@ -25,7 +27,8 @@ void Usage() {
       "                         for all but realistic); see looks below\n"
       "  --layouts DIR          directory of layout files (default: rig_model's config/layouts)\n"
       "  --layout FILE          use this layout file instead of the scenario's (the survey walk\n"
-      "                         circles any layout; random ones: rosrun rig_sim make_layout)\n\n"
+      "                         circles any layout, site_look_away plans its outages on it;\n"
+      "                         random ones: rosrun rig_sim make_layout)\n\n"
       "scenarios:\n");
   for (const auto& s : rig_sim::ListScenarios()) std::printf("  %-10s %s\n", s.name.c_str(), s.description.c_str());
   std::printf("\nlooks:\n");
@@ -99,7 +102,20 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "make_bag: %s\n", err.c_str());
     return 1;
   }
-  rig_sim::FitTrajectoryToScene(&scenario);
+  if (!rig_sim::FitTrajectoryToScene(&scenario, &err)) {
+    std::fprintf(stderr, "make_bag: %s\n", err.c_str());
+    return 1;
+  }
+  if (scenario.name == "site_look_away") {  // say when the outages are and which two cones end them
+    rig_sim::Scenario copy = scenario;
+    std::vector<rig_sim::PlannedOutage> planned;
+    if (rig_sim::PlanOutages(rig_sim::OutagePlanConfig(), &copy, &planned, &err))
+      for (const rig_sim::PlannedOutage& o : planned)
+        std::printf(
+            "make_bag: outage: turn away at %.2f s, looking down %.2f s, turn to cones %d and %d at %.2f s, held to "
+            "%.2f s\n",
+            o.away_start_s, o.away_s, o.cone_a, o.cone_b, o.pair_turn_s, o.pair_end_s);
+  }
   rig_sim::ShortenScenario(duration, scale, &scenario);
   if (noise >= 0.0) scenario.render.noise_sigma_dn = noise;
   rig_sim::BagOptions opt;
