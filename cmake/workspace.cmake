@@ -34,7 +34,20 @@ set(_WS_UNITY_SKIP
   "cone_tracker test/test_associate.cpp"            # LookAt() giving a Pose; vision_frames.h's gives a TruePose
 )
 
+# Targets compiled one object per source (UNITY_BUILD OFF), measured slower as batches: "<target>  # why".
+set(_WS_UNITY_OFF
+  # 17 sources of Eigen fixed-size algebra and Ceres: as three batches 170 + 78 + 2 CPU s, one by one 193 s
+  # (cold, -O3, the same load); and the 170-s batch was the build's critical path (the rest of cone_tracker,
+  # pose_ekf, ar_bringup and ar_overlay wait for this library) with one core idle meanwhile. .ci/README.md.
+  "cone_tracker_pose"
+)
+
 function(_ws_apply_unity_skips)
+  foreach(target IN LISTS _WS_UNITY_OFF)
+    if(TARGET ${target})
+      set_target_properties(${target} PROPERTIES UNITY_BUILD OFF)
+    endif()
+  endforeach()
   foreach(rule IN LISTS _WS_UNITY_SKIP)
     string(REGEX MATCH "^([^ ]+) ([^ ]+)$" _ "${rule}")
     if(CMAKE_MATCH_1 STREQUAL PROJECT_NAME)
