@@ -34,7 +34,20 @@ set(_WS_UNITY_SKIP
   "cone_tracker test/test_associate.cpp"            # LookAt() giving a Pose; vision_frames.h's gives a TruePose
 )
 
+# Targets compiled one object per source (UNITY_BUILD OFF), measured slower as batches: "<target>  # why".
+set(_WS_UNITY_OFF
+  # 17 sources of Eigen fixed-size algebra and Ceres: as three batches 170 + 78 + 2 CPU s, one by one 193 s
+  # (cold, -O3, the same load); and the 170-s batch was the build's critical path (the rest of cone_tracker,
+  # pose_ekf, ar_bringup and ar_overlay wait for this library) with one core idle meanwhile. .ci/README.md.
+  "cone_tracker_pose"
+)
+
 function(_ws_apply_unity_skips)
+  foreach(target IN LISTS _WS_UNITY_OFF)
+    if(TARGET ${target})
+      set_target_properties(${target} PROPERTIES UNITY_BUILD OFF)
+    endif()
+  endforeach()
   foreach(rule IN LISTS _WS_UNITY_SKIP)
     string(REGEX MATCH "^([^ ]+) ([^ ]+)$" _ "${rule}")
     if(CMAKE_MATCH_1 STREQUAL PROJECT_NAME)
@@ -51,8 +64,11 @@ if(NOT PROJECT_NAME STREQUAL "Project")
 endif()
 
 # ---- Tests ----------------------------------------------------------------------------------------
-# `make test` runs the tests with `ctest -j2`. A test that holds a shared resource names it in a
-# RESOURCE_LOCK, and ctest never runs two tests holding the same lock at once:
+# `make test` runs the tests with `ctest -j3 --resource-spec-file cmake/ctest_lanes.json`: three lanes
+# (most tests wait on ROS masters, nodes starting and simulated time, not on a core). Every test takes
+# one lane (RESOURCE_GROUPS "lanes:1"), a test holding the realtime lock takes two ("lanes:2"), so a
+# real-time pipeline still runs beside at most one other test, as with -j2 before. A test that holds a
+# shared resource names it in a RESOURCE_LOCK, and ctest never runs two tests holding the same lock at once:
 #   gige_loopback  arv-fake-gv-camera on 127.0.0.1, GVCP port 3956 (one camera per address)
 #   realtime       the whole graph replayed or simulated in real time, with rate, latency or accuracy
 #                  assertions that a second pipeline on the same 2 cores would disturb; the other lane
@@ -62,7 +78,7 @@ endif()
 #                  time and must lose no message: beside a CPU-bound unit test on 2 cores its probe
 #                  dropped 49 of 4480 frames. Alone it lost none in 3 of 4 runs on the shared machine
 #                  (once 244 of 4502 while other engineers' builds ran): it is load-sensitive anyway.
-# COST (about the seconds each takes) makes ctest start the long ones first, so the two lanes end
+# COST (about the seconds each takes) makes ctest start the long ones first, so the lanes end
 # together; ctest has no timing history on a fresh CI machine. Tests match by regular expression on
 # their ctest names (_ctest_<package>_<type>_<name>; rostests of the repository's test/ carry its path).
 # One rule a line: "<regex> <cost s> [<lock>,<lock>...|RUN_SERIAL]"; the first rule that matches applies.
@@ -107,6 +123,13 @@ function(_ws_apply_test_rules)
         break()
       endif()
     endforeach()
+    # Lanes (cmake/ctest_lanes.json, used only when ctest is given the file): a real-time test takes two.
+    get_test_property(${test} RESOURCE_LOCK test_locks)
+    if(test_locks MATCHES "(^|;)realtime(;|$)")
+      set_tests_properties(${test} PROPERTIES RESOURCE_GROUPS "lanes:2")
+    else()
+      set_tests_properties(${test} PROPERTIES RESOURCE_GROUPS "lanes:1")
+    endif()
   endforeach()
 endfunction()
 
