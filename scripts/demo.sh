@@ -36,24 +36,40 @@ replay() {
   rm -f "$dir/demo_run.bag" "$dir/rviz.png"
   # rviz: ar_overlay's overlay.rviz with the view moved to frame this bag's camera path.
   rosrun ar_demo demo_rviz_config "$(rospack find ar_overlay)/rviz/overlay.rviz" "$input" "$config"
-  echo "demo: replaying $name through launch/demo.launch (log: $dir/demo_launch.log)"
-  xvfb-run -a -s "-screen 0 1500x900x24" bash -c '
-    set -u
-    port="${ROS_MASTER_URI##*:}"
-    roslaunch -p "$port" "$1/launch/demo.launch" bag:="$2" record_to:="$3/demo_run.bag" rviz:="$4" \
-      rviz_config:="$5" layout:="$6" heading_prior_deg:="$7" >"$3/demo_launch.log" 2>&1 &
-    launch_pid=$!
-    if [[ "$4" == true ]]; then
-      rosrun ar_demo grab_screen "$3/rviz.png" --bag "$2" --after-s "$8" --timeout-s 300 &
-      grab_pid=$!
+  # rviz under Xvfb now and then dies at start-up ("free(): invalid next size" as the bag's topics
+  # appear; not reproduced without data). Its screenshot would then be an empty display, so the
+  # replay is run once more, and a run whose rviz died keeps no screenshot.
+  local attempt
+  for attempt in 1 2; do
+    echo "demo: replaying $name through launch/demo.launch (log: $dir/demo_launch.log)"
+    xvfb-run -a -s "-screen 0 1500x900x24" bash -c '
+      set -u
+      port="${ROS_MASTER_URI##*:}"
+      roslaunch -p "$port" "$1/launch/demo.launch" bag:="$2" record_to:="$3/demo_run.bag" rviz:="$4" \
+        rviz_config:="$5" layout:="$6" heading_prior_deg:="$7" >"$3/demo_launch.log" 2>&1 &
+      launch_pid=$!
+      if [[ "$4" == true ]]; then
+        rosrun ar_demo grab_screen "$3/rviz.png" --bag "$2" --after-s "$8" --timeout-s 300 &
+        grab_pid=$!
+      fi
+      wait "$launch_pid"
+      if [[ "$4" == true ]]; then
+        kill "$grab_pid" 2>/dev/null && echo "demo: the replay ended before the rviz screenshot was taken"
+        wait "$grab_pid" 2>/dev/null
+      fi
+      true
+    ' _ "$ROOT" "$input" "$dir" "$rviz" "$config" "$layout" "$heading" "$SCREENSHOT_AT_S"
+    if [[ "$rviz" == true ]] && grep -q '\[rviz-[0-9]*\] process has died' "$dir/demo_launch.log"; then
+      rm -f "$dir/rviz.png"
+      if [[ $attempt == 1 ]]; then
+        echo "demo: rviz died during the replay (see $dir/demo_launch.log); replaying once more"
+        rm -f "$dir/demo_run.bag"
+        continue
+      fi
+      echo "demo: rviz died again; the report has no rviz screenshot" >&2
     fi
-    wait "$launch_pid"
-    if [[ "$4" == true ]]; then
-      kill "$grab_pid" 2>/dev/null && echo "demo: the replay ended before the rviz screenshot was taken"
-      wait "$grab_pid" 2>/dev/null
-    fi
-    true
-  ' _ "$ROOT" "$input" "$dir" "$rviz" "$config" "$layout" "$heading" "$SCREENSHOT_AT_S"
+    break
+  done
   [[ -f "$dir/demo_run.bag" ]] || { echo "demo: the replay recorded nothing; see $dir/demo_launch.log" >&2; return 1; }
   local shot=()
   if [[ -f "$dir/rviz.png" ]]; then shot=(--screenshot "$dir/rviz.png"); fi
