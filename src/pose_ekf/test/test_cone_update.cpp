@@ -121,10 +121,16 @@ TEST(ConeFrameCheck, NamesTheBadField) {
   EXPECT_EQ(b.counters().nan_rejected, 1u);
 }
 
-// A filter at the truth with a tight prior (1 mm, 1 mrad): S is then about R per cone.
-EkfCore Tight(const EkfConfig& c) {
+// A filter at the truth with a tight prior (1 mm, 1 mrad): S is then about R per cone. With
+// sigma_p_m > 0 its position sigma is that on every axis instead (a filter after an outage).
+EkfCore Tight(const EkfConfig& c, double sigma_p_m = 0.0) {
   EkfCore ekf{c};
   EXPECT_TRUE(ekf.Initialize(Camera(0.0, ConeRigStart(), 0.001, 0.001)));
+  if (sigma_p_m > 0.0) {
+    pose_ekf::FilterState s = ekf.state();
+    s.P.block<3, 3>(pose_ekf::kP, pose_ekf::kP) = sigma_p_m * sigma_p_m * Eigen::Matrix3d::Identity();
+    ekf.Restore(s);
+  }
   return ekf;
 }
 
@@ -251,10 +257,7 @@ TEST(ConeGates, ALoneConeAnotherLayoutConeFitsIsNotFused) {
   const auto run = [](double margin, double sigma_p_m, ConeFrameResult* r) {
     EkfConfig c = ConeSimConfig();
     c.cone_ambiguity_margin = margin;
-    EkfCore ekf = Tight(c);
-    pose_ekf::FilterState s = ekf.state();
-    s.P.block<3, 3>(pose_ekf::kP, pose_ekf::kP) = sigma_p_m * sigma_p_m * Eigen::Matrix3d::Identity();
-    ekf.Restore(s);
+    EkfCore ekf = Tight(c, sigma_p_m);
     std::mt19937 rng(11);
     std::vector<pose_ekf::ConeGeometry> layout = DefaultCones();
     layout.push_back(layout[1]);
@@ -292,10 +295,7 @@ TEST(ConeGates, AFarRivalIsFoundByTheIteratedFit) {
   const auto run = [&](int iterations, double sigma_p_m, ConeFrameResult* r) {
     EkfConfig c = ConeSimConfig();
     c.cone_ambiguity_iterations = iterations;
-    EkfCore ekf = Tight(c);
-    pose_ekf::FilterState s = ekf.state();
-    s.P.block<3, 3>(pose_ekf::kP, pose_ekf::kP) = sigma_p_m * sigma_p_m * Eigen::Matrix3d::Identity();
-    ekf.Restore(s);
+    EkfCore ekf = Tight(c, sigma_p_m);
     std::mt19937 rng(11);
     const UpdateResult u = ekf.UpdateCones(ObserveCones(0.0, start, layout, {0}, DefaultIntrinsics(), 1.0, &rng), r);
     std::printf("[ cones ] far rival (%.2f m away), %d iterations, position sigma %.2f m: own %.2f, rival %.2f -> %s\n",
