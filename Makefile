@@ -22,16 +22,17 @@ build: deps
 	@$(CATKIN)
 
 # Every gtest and rostest, then one summary line `N passed, N failed`. Test
-# binaries build in parallel; ctest runs three tests at a time (most wait on masters and
-# simulated time, not on a core), a real-time pipeline beside at most one other test
-# (cmake/ctest_lanes.json), and tests sharing one resource (the loopback GigE camera port,
-# a pipeline replayed in real time) hold a RESOURCE_LOCK and run one after the other
-# (cmake/workspace.cmake). Each test has its own master, pty and files.
+# binaries build in parallel; ctest runs two tests at a time, except that tests sharing one
+# resource (the loopback GigE camera port, a pipeline replayed in real time) hold a
+# RESOURCE_LOCK and run one after the other (cmake/workspace.cmake). Each test has its own
+# master, pty and files. Three lanes (ctest -j3 --resource-spec-file cmake/ctest_lanes.json)
+# saved about 40 s but look_away_recovery's overlay check then failed in 2 of 3 full runs
+# (.ci/README.md), so two it is.
 test: build
 	@rm -rf $(WS)/build/test_results
 	@$(CATKIN) tests > $(WS)/run_tests.log 2>&1 || \
 	  { grep -E 'error|Error' $(WS)/run_tests.log | head -40; echo "make test: see $(WS)/run_tests.log"; }
-	@cd $(WS)/build && ctest -j3 --resource-spec-file $(ROOT)/cmake/ctest_lanes.json -V >> $(WS)/run_tests.log 2>&1 || \
+	@cd $(WS)/build && ctest -j2 -V >> $(WS)/run_tests.log 2>&1 || \
 	  { grep -E 'error|Error' $(WS)/run_tests.log | head -40; echo "make test: see $(WS)/run_tests.log"; }
 	@grep -E '^([0-9]+: )?(\[  (FAILED|PASSED) |\[ROSTEST\]|.*FAILURE)' $(WS)/run_tests.log || true
 	@bash $(ROOT)/scripts/test_summary.sh $(WS)/build/test_results
