@@ -72,6 +72,13 @@ TEST(ConeBuffer, PoseOfAFrameWithConesIsNotFusedAgain) {
   EXPECT_DOUBLE_EQ(no_cones.stats.mean_nees, reference.mean_nees);
 }
 
+// An IMU sample of a rig held still at pose T: no rotation, the specific force of gravity alone.
+pose_ekf::ImuMeasurement StillImu(const pose_math::Pose& T, const EkfConfig& c) {
+  pose_ekf::ImuMeasurement imu;
+  imu.accel_camera_m_s2 = pose_math::RotationFromQuat(T.q).transpose() * Eigen::Vector3d(0, 0, c.gravity_m_s2);
+  return imu;
+}
+
 // Re-acquisition: rejected cone frames in a row, or a large position sigma, make the next pose
 // re-initialise the filter; that image's cones are then not fused as well.
 TEST(ConeBuffer, RejectedFramesInARowAndALargeSigmaReacquireFromThePose) {
@@ -82,8 +89,7 @@ TEST(ConeBuffer, RejectedFramesInARowAndALargeSigmaReacquireFromThePose) {
   std::mt19937 rng(5);
   ASSERT_EQ(b.AddCamera(Camera(0.0, T, 0.001, 0.001)), AddResult::kInitialized);
   const auto cones = DefaultCones();
-  pose_ekf::ImuMeasurement imu;
-  imu.accel_camera_m_s2 = pose_math::RotationFromQuat(T.q).transpose() * Eigen::Vector3d(0, 0, c.gravity_m_s2);
+  pose_ekf::ImuMeasurement imu = StillImu(T, c);
   for (int k = 1; k <= 5; ++k) {
     imu.stamp_s = k / 30.0 - 0.001;
     b.AddImu(imu);
@@ -135,8 +141,7 @@ TEST(ConeBuffer, ReacquiringNeedsTwoConesTogether) {
     std::mt19937 rng(7);
     EXPECT_EQ(b.AddCamera(Camera(0.0, T, 0.001, 0.001)), AddResult::kInitialized);
     const auto cones = DefaultCones();
-    pose_ekf::ImuMeasurement imu;
-    imu.accel_camera_m_s2 = pose_math::RotationFromQuat(T.q).transpose() * Eigen::Vector3d(0, 0, c.gravity_m_s2);
+    pose_ekf::ImuMeasurement imu = StillImu(T, c);
     for (int k = 1; k <= 300; ++k) {
       imu.stamp_s = 0.01 * k;
       b.AddImu(imu);
