@@ -60,6 +60,7 @@ const std::set<std::string> kLoadConfigNames = {"layout_file",
                                                 "outline_max_edge_rms_px",
                                                 "colour_model",
                                                 "merge_band_gap_frac",
+                                                "cut_cone_contrast",
                                                 "verify_cone_shape",
                                                 "shape_min_height_px",
                                                 "shape_max_top_width_frac",
@@ -90,6 +91,7 @@ TEST(NodeParams, ReconfigureRoundTripIsTheIdentity) {
   s.hsi.hue_min_deg = 350.5, s.hsi.hue_max_deg = 25.25, s.hsi.sat_min = 0.45, s.hsi.sat_max = 0.95;
   s.hsi.val_min = 0.15, s.hsi.val_max = 0.9;
   s.min_area_px = 20.0, s.max_area_px = 9000.0, s.border_px = 6, s.min_solidity = 0.7, s.max_solidity = 0.98;
+  s.cut_cone_contrast = 25;
   s.min_axis_ratio = 1.1, s.max_axis_ratio = 6.5, s.max_tilt_deg = 40.0, s.merge_lateral_frac = 0.3;
   s.merge_gap_frac = 0.7, s.peak_refinement = int(PeakRefinement::kTemplates), s.reject_bad_outline = false;
   c.pose.sigma_px = 1.5, c.pose.max_assignment_px = 25.0, c.pose.chi2_probability = 0.99;
@@ -112,7 +114,7 @@ TEST(NodeParams, ReconfigureRoundTripIsTheIdentity) {
     EXPECT_NE(NodeParams().Get(NodeConfig(), name), NodeParams().Get(c, name)) << name << " left at its default";
     ++compared;
   });
-  EXPECT_EQ(compared, 26);  // every parameter of cfg/ConeTracker.cfg
+  EXPECT_EQ(compared, 27);  // every parameter of cfg/ConeTracker.cfg
 }
 
 TEST(NodeParams, YamlReadsTheSameNamesStrictly) {

@@ -70,6 +70,7 @@ Table MakeTable() {
       // The learned colour table and the cone-silhouette check (not in the thesis).
       .Add("colour_model", [](NodeConfig& c) -> std::string& { return c.segmenter.colour_model; })
       .Add("merge_band_gap_frac", [](NodeConfig& c) -> double& { return c.segmenter.merge_band_gap_frac; })
+      .Add("cut_cone_contrast", [](NodeConfig& c) -> int& { return c.segmenter.cut_cone_contrast; })
       .Add("verify_cone_shape", [](NodeConfig& c) -> bool& { return c.segmenter.shape.enabled; })
       .Add("shape_min_height_px", [](NodeConfig& c) -> double& { return c.segmenter.shape.min_height_px; })
       .Add("shape_max_top_width_frac", [](NodeConfig& c) -> double& { return c.segmenter.shape.max_top_width_frac; })

@@ -79,6 +79,19 @@ bool OrangeBelowBase(const MaskView& mask, const Eigen::Vector2d& peak, const Ei
   return false;
 }
 
+// Half the silhouette's widest extent across the axis peak -> base.
+double HalfWidthAcross(const std::vector<Run>& runs, const Eigen::Vector2d& peak, const Eigen::Vector2d& base) {
+  const Eigen::Vector2d d = (base - peak).normalized();
+  double lo = INFINITY, hi = -INFINITY;
+  for (const Run& r : runs)
+    for (int x : {r.x0, r.x1}) {
+      const Eigen::Vector2d q = Eigen::Vector2d(x, r.y) - peak;
+      const double s = q.x() * d.y() - q.y() * d.x();
+      lo = std::min(lo, s), hi = std::max(hi, s);
+    }
+  return hi >= lo ? 0.5 * (hi - lo + 1.0) : 0.0;
+}
+
 }  // namespace
 
 std::string SegmenterConfig::Validate() const {
@@ -90,6 +103,7 @@ std::string SegmenterConfig::Validate() const {
   if (!(merge_lateral_frac >= 0.0) || !(merge_gap_frac >= 0.0) || !(merge_band_gap_frac >= 0.0))
     return "merge fractions must be >= 0";
   if (band_min_value < 0 || band_min_value > 255) return "band_min_value must be in [0, 255]";
+  if (cut_cone_contrast < 0 || cut_cone_contrast > 255) return "cut_cone_contrast must be in [0, 255]";
   if (!(band_max_sat >= 0.0 && band_max_sat <= 1.0)) return "band_max_sat must be in [0, 1]";
   if (!(min_area_px >= 0.0) || !(max_area_px >= min_area_px)) return "area bounds must satisfy 0 <= min <= max";
   if (border_px < 0) return "border_px must be >= 0";
@@ -336,6 +350,11 @@ SegmentationResult Segmenter::Process(const ImageView& image, const CameraModel&
     const bool undistorted = det.failed_gates == 0 && Measure(mask, camera, &det);
     if (det.failed_gates == 0 && !CheckConeShape(d.runs, det.peak_px, det.base_px, c.shape).ok)
       det.failed_gates |= kGateShape;
+    if (det.failed_gates == 0 &&
+        SilhouetteRunsOutOfImage(RgbView{frame_rgb_, frame_w_, frame_h_, frame_step_}, det.peak_px, det.base_px,
+                                 HalfWidthAcross(d.runs, det.peak_px, det.base_px), c.cut_cone_contrast,
+                                 c.merge_band_gap_frac))
+      det.failed_gates |= kGateBorder;  // the top of a cone whose collar runs out of the image
     if (undistorted) {
       // The mid-height point on the axis; it is not a measured point.
       det.mid_undist_px = 0.5 * (det.peak_undist_px + det.base_undist_px);

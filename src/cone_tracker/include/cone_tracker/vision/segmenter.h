@@ -16,6 +16,7 @@
 #include "cone_tracker/vision/color_lut.h"
 #include "cone_tracker/vision/cone_outline.h"
 #include "cone_tracker/vision/cone_shape.h"
+#include "cone_tracker/vision/cut_cone.h"
 #include "cone_tracker/vision/cone_templates.h"
 
 namespace cone_tracker {
@@ -59,6 +60,9 @@ struct SegmenterConfig {
   double min_area_px = 30.0;
   double max_area_px = 200000.0;
   int border_px = 4;  // centroid within this of the edge, or blob touching it: rejected
+  // A cone whose silhouette runs on past its base out of the image, over a collar no longer than
+  // merge_band_gap_frac (cut_cone.h: its min_contrast), fails the border gate too; 0: no such test.
+  int cut_cone_contrast = 40;
   double min_solidity = 0.75;
   double max_solidity = 1.0;
   double min_axis_ratio = 1.3;
