@@ -183,6 +183,38 @@ double ConeFitCost(const StateVector& x0, const StateMatrix& P, const ConeGeomet
   return J;
 }
 
+// The iterated EKF update of one cone: the update from the prior x0 linearised at x_i takes the residual
+// z - h(x_i) - H_i (x0 - x_i) (x_i = x0 first: the EKF's (5.15)-(5.17)); each pass starts from the prior
+// again, and the covariance is the last linearisation's. *nis is the first pass's, at the prior, as the
+// gates' statistics are.
+UpdateResult EkfCore::UpdateCone(const ConeObservation& o, const PinholeIntrinsics& K, double* nis) {
+  constexpr double kConvergedPx = 0.1;
+  const FilterState prior = s_;
+  const ConeVector z = ConePixels(o);
+  const ConeMatrix R = ConeCovariance(o);
+  StateVector x_lin = prior.x;
+  ConeVector h, h_new;
+  ConeJacobian H;
+  FilterState last;  // the previous pass's update, kept when a later pass fails
+  for (int pass = 0; pass <= config_.cone_update_iterations; ++pass) {
+    if (!ProjectCone(x_lin, o.cone, K, &h, &H)) break;
+    const ConeVector y = z - h - H * (prior.x - x_lin);
+    s_ = prior;
+    if (Update<kConeDof>(y, H, R, pass == 0 ? nis : nullptr) != UpdateResult::kApplied) {
+      s_ = pass == 0 ? prior : last;
+      return pass == 0 ? UpdateResult::kNumericalFailure : UpdateResult::kApplied;
+    }
+    // Linear enough over the step: the updated state predicts the pixels the linearisation did.
+    if (pass == config_.cone_update_iterations || !ProjectCone(s_.x, o.cone, K, &h_new, nullptr) ||
+        (h_new - h - H * (s_.x - x_lin)).cwiseAbs().maxCoeff() < kConvergedPx)
+      return UpdateResult::kApplied;
+    last = s_;
+    x_lin = s_.x;
+  }
+  s_ = prior;
+  return UpdateResult::kNumericalFailure;
+}
+
 void EkfCore::SetConeGates() {
   cone_gate_chi2_ = Quantile(kConeDof, config_.cone_gate_probability);
   cone_joint_chi2_.clear();
@@ -272,10 +304,8 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
     double nis_sum = 0.0;
     int failed = -1;
     for (int i : candidates) {
-      const ConeObservation& o = f.cones[static_cast<size_t>(i)];
       double nis = 0.0;
-      if (!ProjectCone(s_.x, o.cone, f.K, &h, &H) ||
-          Update<kConeDof>(ConePixels(o) - h, H, ConeCovariance(o), &nis) != UpdateResult::kApplied) {
+      if (UpdateCone(f.cones[static_cast<size_t>(i)], f.K, &nis) != UpdateResult::kApplied) {
         failed = i;
         break;
       }

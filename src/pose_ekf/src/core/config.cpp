@@ -62,6 +62,9 @@ std::string EkfConfig::Validate() const {
     err << "cone_ambiguity_iterations must be in [0, 50], 0 takes the first-order statistic (got "
         << cone_ambiguity_iterations << "); ";
   }
+  if (cone_update_iterations < 0 || cone_update_iterations > 20) {
+    err << "cone_update_iterations must be in [0, 20], 0 updates once (got " << cone_update_iterations << "); ";
+  }
   if (reacquire_min_cones < 1) {
     err << "reacquire_min_cones must be >= 1, 1 fuses lone cones while re-acquiring (got " << reacquire_min_cones
         << "); ";

@@ -97,6 +97,8 @@ class EkfCore {
   void PredictStep(double dt_s);
   void InitializeUnmeasured(int n);
   void SetConeGates();  // cone_update.cpp
+  // One cone's (iterated) update from the current state (cone_update.cpp); the state is unchanged unless applied.
+  UpdateResult UpdateCone(const ConeObservation& o, const PinholeIntrinsics& K, double* nis);
   void NoteAngularAcceleration();
 
   EkfConfig config_;
