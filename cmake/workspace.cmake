@@ -40,6 +40,9 @@ set(_WS_UNITY_OFF
   # (cold, -O3, the same load); and the 170-s batch was the build's critical path (the rest of cone_tracker,
   # pose_ekf, ar_bringup and ar_overlay wait for this library) with one core idle meanwhile. .ci/README.md.
   "cone_tracker_pose"
+  # EkfCore's updates split into sources of their own (one Update<M> instantiation each): batched, they would be
+  # one translation unit again, the build's longest job. .ci/README.md.
+  "pose_ekf_core"
 )
 
 function(_ws_apply_unity_skips)

@@ -7,11 +7,13 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <random>
 
 #include "pose_ekf/core/cone_measurement.h"
 #include "pose_ekf/core/ekf_core.h"
 #include "pose_ekf/core/measurement_buffer.h"
 #include "pose_ekf/testing/synthetic_cones.h"
+#include "pose_math/covariance.h"
 #include "pose_math/quaternion.h"
 #include "pose_math/rotation.h"
 
@@ -292,14 +294,21 @@ TEST(ConeGates, AFarRivalIsFoundByTheIteratedFit) {
   const Eigen::Vector3d shift(0.0, -1.2, -(1.0 - k) * (start.t.z() - layout[0].base_m.z()));
   layout[1].base_m = start.t + shift + k * (layout[0].base_m - start.t);
   layout[1].height_m = k * layout[0].height_m;
+  double rival_fit = 0.0;  // the rival's ConeFitCost, fitted or not by UpdateCones
   const auto run = [&](int iterations, double sigma_p_m, ConeFrameResult* r) {
     EkfConfig c = ConeSimConfig();
     c.cone_ambiguity_iterations = iterations;
     EkfCore ekf = Tight(c, sigma_p_m);
     std::mt19937 rng(11);
-    const UpdateResult u = ekf.UpdateCones(ObserveCones(0.0, start, layout, {0}, DefaultIntrinsics(), 1.0, &rng), r);
-    std::printf("[ cones ] far rival (%.2f m away), %d iterations, position sigma %.2f m: own %.2f, rival %.2f -> %s\n",
-                shift.norm(), iterations, sigma_p_m, r->ambiguity_own_chi2, r->ambiguity_rival_chi2, ToString(u));
+    const ConeFrame f = ObserveCones(0.0, start, layout, {0}, DefaultIntrinsics(), 1.0, &rng);
+    rival_fit = pose_ekf::ConeFitCost(ekf.state().x, ekf.state().P, layout[1], f.K, pose_ekf::ConePixels(f.cones[0]),
+                                      pose_ekf::ConeCovariance(f.cones[0]), iterations);
+    const UpdateResult u = ekf.UpdateCones(f, r);
+    std::printf(
+        "[ cones ] far rival (%.2f m away), %d iterations, position sigma %.2f m: own %.2f, rival %.2f (%d screened, "
+        "fit %.2f) -> %s\n",
+        shift.norm(), iterations, sigma_p_m, r->ambiguity_own_chi2, r->ambiguity_rival_chi2, r->ambiguity_screened,
+        rival_fit, ToString(u));
     return u;
   };
   ConeFrameResult r;
@@ -313,7 +322,8 @@ TEST(ConeGates, AFarRivalIsFoundByTheIteratedFit) {
   EXPECT_LT(r.ambiguity_own_chi2, 5.0);
   EXPECT_EQ(run(5, 0.02, &r), UpdateResult::kApplied);  // tracked: no rival
   EXPECT_EQ(r.ambiguous, 0);
-  EXPECT_GT(r.ambiguity_rival_chi2 - r.ambiguity_own_chi2, 1000.0);
+  EXPECT_GT(rival_fit - r.ambiguity_own_chi2, 1000.0);
+  EXPECT_EQ(r.ambiguity_screened, 1);  // ConeFitLowerBound ruled it out without fitting it
 }
 
 // Re-acquisition from a prior 0.74 m off (position sigma 1.5 m, as after a long outage) with two cones.
@@ -383,6 +393,56 @@ TEST(ConeGates, ConeFitCostIteratesTheFirstOrderStatistic) {
       far_first, far_iterated, at_truth);
   EXPECT_LE(far_iterated, at_truth + 1e-6);
   EXPECT_GT(far_iterated, 0.0);
+}
+
+// ConeFitLowerBound (the ambiguity test's screen) never exceeds the fit it bounds: cameras off the prediction by
+// about one sigma (position sigma 1 cm to 2 m, rotation sigma 0.06° to 6°), every layout cone scored against one
+// cone's pixels, thresholds 1 to 10⁴. And it must save the fits where they are hopeless: at a tracked filter's
+// sigmas (≤ 10 cm, ≤ 0.6°) it rules out every other cone at 10 (own fit ~1 plus the default margin 9).
+TEST(ConeGates, ConeFitLowerBoundIsBelowTheFit) {
+  std::mt19937 rng(17);
+  std::normal_distribution<double> normal;
+  const pose_ekf::PinholeIntrinsics K = DefaultIntrinsics();
+  const std::vector<pose_ekf::ConeGeometry> layout = DefaultCones();
+  int bounds = 0, reached = 0, tracked_rivals = 0, tracked_screened = 0;
+  for (double sigma_p_m : {0.01, 0.1, 0.5, 2.0}) {
+    for (double sigma_rad : {0.001, 0.01, 0.1}) {
+      EkfCore ekf = Tight(ConeSimConfig(), sigma_p_m);
+      pose_ekf::FilterState s = ekf.state();
+      const Eigen::Matrix<double, 4, 3> G = pose_math::RotationPerturbationToQuat(s.x.segment<4>(pose_ekf::kQ));
+      s.P.block<4, 4>(pose_ekf::kQ, pose_ekf::kQ) = sigma_rad * sigma_rad * G * G.transpose();
+      const bool tracked = sigma_p_m <= 0.1 && sigma_rad <= 0.01;
+      for (int trial = 0; trial < 8; ++trial) {
+        pose_math::Pose truth = ConeRigStart();
+        const Eigen::Vector3d turn(normal(rng), normal(rng), normal(rng)), shift(normal(rng), normal(rng), normal(rng));
+        truth.q = pose_math::Multiply(truth.q, pose_math::QuatFromRotationVector(sigma_rad * turn));
+        truth.t += sigma_p_m * shift;
+        const int seen = trial % 3;
+        const ConeFrame f = ObserveCones(0.0, truth, layout, {seen}, K, 1.0, &rng);
+        if (f.cones.empty()) continue;
+        const ConeVector z = pose_ekf::ConePixels(f.cones[0]);
+        const pose_ekf::ConeMatrix R = pose_ekf::ConeCovariance(f.cones[0]);
+        for (size_t j = 0; j < layout.size(); ++j) {
+          const double fit = pose_ekf::ConeFitCost(s.x, s.P, layout[j], K, z, R, 5);
+          for (double t2 : {1.0, 10.0, 100.0, 1e3, 1e4}) {
+            const double bound = pose_ekf::ConeFitLowerBound(s.x, s.P, layout[j], K, z, R, t2);
+            EXPECT_LE(bound, fit * (1.0 + 1e-9)) << "sigma " << sigma_p_m << " m, " << sigma_rad << " rad, t2 " << t2;
+            ++bounds;
+            reached += bound >= t2;
+          }
+          if (tracked && static_cast<int>(j) != seen) {
+            ++tracked_rivals;
+            tracked_screened += pose_ekf::ConeFitLowerBound(s.x, s.P, layout[j], K, z, R, 10.0) >= 10.0;
+          }
+        }
+      }
+    }
+  }
+  std::printf(
+      "[ cones ] ConeFitLowerBound: %d bounds, %d reached their threshold; tracked, %d of %d rivals ruled out\n",
+      bounds, reached, tracked_screened, tracked_rivals);
+  EXPECT_GT(tracked_rivals, 0);
+  EXPECT_EQ(tracked_screened, tracked_rivals);
 }
 
 // Monte Carlo NEES (as test_accuracy's Consistency test) with the camera as per-cone updates only,

@@ -215,6 +215,52 @@ UpdateResult EkfCore::UpdateCone(const ConeObservation& o, const PinholeIntrinsi
   return UpdateResult::kNumericalFailure;
 }
 
+// A lower bound on every J(x) of ConeFitCost, valid for the prior terms up to t2. Write x = x0 + δ with prior term s² =
+// δᵀ P⁺ δ (the iterates x0 + P a: δ = P a, s² = aᵀ P a). Then |δq| ≤ kq s and |δp| ≤ kp s, kq² and kp² being at least
+// the largest eigenvalues of P's q and p blocks. A model point's direction in {C}, R(q)ᵀ (X - p) (R(q) = |q|² times the
+// rotation of q/|q|, (2.36)), turns from its direction at x0 by at most the rotation between q and q0, ≤ 2 asin(|δq| /
+// |q0|) (the widest angle of a ball of radius |δq| about q0 seen from 0; a rotation's angle is twice its quaternion's),
+// plus asin((|δp| + e) / |X0 - p0|) for the point's own move e: 0 for the peak, r = τ h for the base, which stays on
+// its circle about the axis (3.18). So the point is at least (its angle A0 from the observed pixel's ray at x0) - (that
+// turn) = gap(s) off that ray. The pinhole maps rays in front of the camera to pixels at least min(fx, fy) times their
+// angle apart (the gnomonic map stretches every direction by ≥ 1, and the segment is the image of the arc), and R is
+// block-diagonal, so the pixel term is at least G(s) = min(fx, fy)² (gap_peak² + gap_base²) / λmax(R). G falls with s:
+// for s² ≥ t2, J ≥ t2; for s² < t2, J ≥ G(√t2). Hence J ≥ min(t2, G(√t2)) at every x (a point behind the camera costs
+// infinity), and so is every cost ConeFitCost returns, which is J at an iterate.
+double ConeFitLowerBound(const StateVector& x0, const StateMatrix& P, const ConeGeometry& cone,
+                         const PinholeIntrinsics& K, const ConeVector& z, const ConeMatrix& R, double t2) {
+  static_assert(kConeMeasuredPoints[0] == 0 && kConeMeasuredPoints[1] == 2, "z and R: the peak, then the base");
+  if (!(t2 > 0.0)) return 0.0;
+  const Quat q0 = x0.segment<4>(kQ);
+  const Eigen::Vector3d p0 = x0.segment<3>(kP);
+  const double s = std::sqrt(t2);
+  // λmax ≤ ‖A‖₂ ≤ both the Frobenius norm and the largest absolute row sum (A symmetric).
+  const auto lambda_bound = [](const auto& A) { return std::min(A.norm(), A.cwiseAbs().rowwise().sum().maxCoeff()); };
+  const double rq = std::sqrt(lambda_bound(P.block<4, 4>(kQ, kQ))) * s / q0.norm();
+  if (!(rq < 1.0)) return 0.0;  // a turn that can point anywhere
+  const double turn = 2.0 * std::asin(rq), shift = std::sqrt(lambda_bound(P.block<3, 3>(kP, kP))) * s;
+  const auto gap = [&](int row, const Eigen::Vector3d& X0, double e) {  // ≥ 0 radians
+    const Eigen::Vector3d ray(z[row] - K.cx_px, (z[row + 1] - K.cy_px) * K.fx_px / K.fy_px, K.fx_px);
+    const Eigen::Vector3d d0 = RotateInverse(q0, X0 - p0);
+    const double ratio = (shift + e) / (X0 - p0).norm();
+    if (!(ratio < 1.0)) return 0.0;
+    return std::max(0.0, std::atan2(ray.cross(d0).norm(), ray.dot(d0)) - turn - std::asin(ratio));
+  };
+  const double r = cone.tau * cone.height_m;
+  const double g_peak = gap(0, cone.base_m + Eigen::Vector3d(0.0, 0.0, cone.height_m), 0.0);
+  const double g_base = gap(2, cone.base_m, r);
+  // λmax(R): the larger of its 2x2 blocks' (ConeCovariance is block-diagonal), else its Frobenius norm.
+  const auto lambda2 = [&](int i) {
+    const double a = R(i, i), c = R(i + 1, i + 1), b = 0.5 * (R(i, i + 1) + R(i + 1, i));
+    return 0.5 * (a + c) + std::sqrt(0.25 * (a - c) * (a - c) + b * b);
+  };
+  const double lambda_max = R.topRightCorner<2, 2>().isZero(0.0) && R.bottomLeftCorner<2, 2>().isZero(0.0)
+                                ? std::max(lambda2(0), lambda2(2))
+                                : R.norm();
+  const double f = std::min(K.fx_px, K.fy_px);
+  return std::min(t2, f * f * (g_peak * g_peak + g_base * g_base) / lambda_max);
+}
+
 void EkfCore::SetConeGates() {
   cone_gate_chi2_ = Quantile(kConeDof, config_.cone_gate_probability);
   cone_joint_chi2_.clear();
@@ -278,8 +324,16 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
     res.ambiguity_own_chi2 =
         iterations > 0 ? ConeFitCost(prior.x, prior.P, o.cone, f.K, z, Rn, iterations) : d2[static_cast<size_t>(i)];
     res.ambiguity_rival_chi2 = std::numeric_limits<double>::infinity();
+    res.ambiguity_screened = 0;
+    // A rival whose every fit costs more than own + margin (ConeFitLowerBound; sound for the iterated fit only,
+    // whose result is J at an iterate) cannot make the cone ambiguous: it is not fitted. (1 + 1e-9: rounding.)
+    const double beyond = (res.ambiguity_own_chi2 + config_.cone_ambiguity_margin) * (1.0 + 1e-9);
     for (size_t j = 0; j < f.layout.size(); ++j) {
       if (static_cast<int>(j) == o.cone_id) continue;
+      if (iterations > 0 && ConeFitLowerBound(prior.x, prior.P, f.layout[j], f.K, z, Rn, beyond) >= beyond) {
+        ++res.ambiguity_screened;
+        continue;
+      }
       const double rival = ConeFitCost(prior.x, prior.P, f.layout[j], f.K, z, Rn, iterations);
       if (rival < res.ambiguity_rival_chi2) {
         res.ambiguity_rival_chi2 = rival;

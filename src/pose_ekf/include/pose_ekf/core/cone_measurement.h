@@ -101,8 +101,11 @@ struct ConeFrameResult {
   // The lone-cone ambiguity test (EkfConfig::cone_ambiguity_margin), when it ran: the fit statistic of the
   // cone the tracker named and of the best other layout cone (-1: none could be projected).
   double ambiguity_own_chi2 = 0.0;
+  // Rivals are fitted unless ConeFitLowerBound rules them out (`ambiguity_screened` of them, iterated test only):
+  // the best fitted one (infinite and -1 when none was fitted).
   double ambiguity_rival_chi2 = 0.0;
   int ambiguity_rival_id = -1;
+  int ambiguity_screened = 0;
 };
 
 // The smallest cost J(x) = (x - x0)ᵀ P⁻¹ (x - x0) + (z - h(x))ᵀ R⁻¹ (z - h(x)) with which `cone` explains
@@ -112,5 +115,11 @@ struct ConeFrameResult {
 // cone cannot be projected at x0.
 double ConeFitCost(const StateVector& x0, const StateMatrix& P, const ConeGeometry& cone, const PinholeIntrinsics& K,
                    const ConeVector& z, const ConeMatrix& R, int iterations);
+
+// A lower bound on ConeFitCost's J(x) at every x, hence on what it returns with iterations > 0: min(t2, the least
+// peak pixel term of a pose whose prior term is below t2). So a result equal to t2 proves J ≥ t2 everywhere
+// (cone_update.cpp gives the proof). Costs a rotation and a few square roots, against up to 5 Gauss-Newton steps.
+double ConeFitLowerBound(const StateVector& x0, const StateMatrix& P, const ConeGeometry& cone,
+                         const PinholeIntrinsics& K, const ConeVector& z, const ConeMatrix& R, double t2);
 
 }  // namespace pose_ekf
