@@ -89,9 +89,9 @@ TEST(CutConeTest, OffOrDegenerateInputsNeverCut) {
   const std::vector<uint8_t> grey(64 * 48 * 3, 90);
   const RgbView image{grey.data(), 64, 48, 64 * 3};
   const Eigen::Vector2d peak(32, 20), base(32, 40);
-  EXPECT_FALSE(SilhouetteRunsOutOfImage(image, peak, base, 5.0, 0, 1.5));     // disabled
-  EXPECT_FALSE(SilhouetteRunsOutOfImage(image, peak, base, 5.0, 40, 1.5));    // uniform ground
-  EXPECT_FALSE(SilhouetteRunsOutOfImage(image, peak, peak, 5.0, 40, 1.5));    // no height
+  EXPECT_FALSE(SilhouetteRunsOutOfImage(image, peak, base, 5.0, 0, 1.5));       // disabled
+  EXPECT_FALSE(SilhouetteRunsOutOfImage(image, peak, base, 5.0, 40, 1.5));      // uniform ground
+  EXPECT_FALSE(SilhouetteRunsOutOfImage(image, peak, peak, 5.0, 40, 1.5));      // no height
   EXPECT_FALSE(SilhouetteRunsOutOfImage(RgbView{}, peak, base, 5.0, 40, 1.5));  // no frame
 }
 

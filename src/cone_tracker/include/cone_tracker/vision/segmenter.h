@@ -16,8 +16,8 @@
 #include "cone_tracker/vision/color_lut.h"
 #include "cone_tracker/vision/cone_outline.h"
 #include "cone_tracker/vision/cone_shape.h"
-#include "cone_tracker/vision/cut_cone.h"
 #include "cone_tracker/vision/cone_templates.h"
+#include "cone_tracker/vision/cut_cone.h"
 
 namespace cone_tracker {
 
