@@ -139,13 +139,17 @@ PnpResult SolveOnce(const std::vector<ConeDetection>& dets, const std::vector<Co
   PnpOptions opt;
   opt.sigma_px = cfg.sigma_px;
   opt.compute_covariance = covariance;
+  // A rival's fit (no covariance wanted): no restarts from other starts either; a rival that fits
+  // converges from the first, and one that does not is no rival.
+  if (!covariance) opt.best_restart_rms_factor = INFINITY;
   return SolvePnp(pinhole, model, image, opt, initial);
 }
 
 // The surface points (3.1.4) and the image of the mid point depend on where the
 // camera is: solve from the prediction's (or, without one, the axis points'),
 // then correct both from the solution and solve again until the eye settles.
-// rival_only: a rival's fit for the ambiguity test: no covariance, one correction of the surface points.
+// rival_only: a rival's fit for the ambiguity test: no covariance, no restarts, one correction of the
+// surface points.
 PnpResult Solve(const std::vector<ConeDetection>& dets, const std::vector<ConeModel>& cones, const Assignment& a,
                 const CameraModel& cam, const ConePoseConfig& cfg, const std::optional<pose_math::Pose>& initial,
                 bool rival_only = false) {
