@@ -119,6 +119,16 @@ TEST(Layout, TheSiteLayoutLoads) {  // rig_sim's 14-cone site: refused while the
 }  // namespace cone_tracker
 
 namespace cone_tracker {
+namespace {
+
+// rig_sim's camera at --scale 0.5 (512x384), the pinhole of the undistorted points.
+CameraModel SiteCamera() {
+  CameraModel cam;
+  cam.width_px = 512, cam.height_px = 384, cam.fx_px = 385.0, cam.fy_px = 388.0, cam.cx_px = 255.5, cam.cy_px = 191.5;
+  return cam;
+}
+
+}  // namespace
 
 // A frame of rig_sim's `site` walk (make_bag --scenario site --scale 0.5 --seed 1, t = 2.13 s): four
 // detections at 512x384, three of them far cones 25-35 px tall, one past the image's left edge after
@@ -128,8 +138,7 @@ TEST(Layout, SiteFrameColdStartIds) {
   std::vector<ConeModel> cones;
   std::string error;
   ASSERT_TRUE(LoadLayoutFile(RIG_MODEL_LAYOUTS_DIR "/site.yaml", &cones, &error)) << error;
-  CameraModel cam;
-  cam.width_px = 512, cam.height_px = 384, cam.fx_px = 385.0, cam.fy_px = 388.0, cam.cx_px = 255.5, cam.cy_px = 191.5;
+  const CameraModel cam = SiteCamera();
   const double px[4][6] = {{-11.654, 165.384, -11.601, 183.300, -11.548, 201.215},
                            {189.535, 164.235, 188.517, 176.392, 187.499, 188.550},
                            {273.985, 187.307, 270.175, 242.763, 266.365, 298.219},
@@ -161,8 +170,7 @@ TEST(Layout, SitePairAfterAnOutageGetsItsIdsUnderTheFilterCovariance) {
   std::vector<ConeModel> cones;
   std::string error;
   ASSERT_TRUE(LoadLayoutFile(RIG_MODEL_LAYOUTS_DIR "/site.yaml", &cones, &error)) << error;
-  CameraModel cam;
-  cam.width_px = 512, cam.height_px = 384, cam.fx_px = 385.0, cam.fy_px = 388.0, cam.cx_px = 255.5, cam.cy_px = 191.5;
+  const CameraModel cam = SiteCamera();
   const std::vector<ConePoints2d> dets = {
       {Eigen::Vector2d(52.349, 135.717), Eigen::Vector2d(63.767, 179.689), Eigen::Vector2d(75.185, 223.662)},
       {Eigen::Vector2d(409.505, 33.783), Eigen::Vector2d(404.333, 61.711), Eigen::Vector2d(399.161, 89.640)}};
