@@ -17,6 +17,7 @@
 #include "cone_tracker/vision/cone_pose.h"
 #include "cone_tracker/vision/cone_pose_search.h"
 #include "pose_math/rotation.h"
+#include "rig_sim/random_layout.h"
 #include "rig_sim/scene.h"
 
 namespace cone_tracker {
@@ -79,7 +80,7 @@ TEST(LargeLayout, SearchIsBoundedAndRefusesNonsense) {
   const ConePoseResult r = EstimateConePose(dets, cones, cam, ConePoseConfig(), std::nullopt);
   EXPECT_FALSE(r.ok);
   ConeSearchConfig tiny;
-  tiny.max_candidates = 2;
+  tiny.max_candidates = 2, tiny.max_rivals = 2;
   std::mt19937 rng(3);
   const testing::SyntheticView v = testing::RandomView(cones, cam, 5, 5, 0.5, &rng);
   EXPECT_LE(SearchAssignments(v.detections, cones, cam, tiny).size(), 2u);
@@ -163,4 +164,41 @@ TEST(LargeLayout, ColdStartOnRenderedFrames) {
 }
 
 }  // namespace
+}  // namespace cone_tracker
+
+namespace cone_tracker {
+
+// The first frame (t = 0) of rig_sim's site_look_away walk, seed 5, on the random 30-cone layout
+// `make_layout --cones 30 --seed 3 --side 26` (512x384): three 0.30 m cones 2.5-6.5 m away, ids 14,
+// 26, 10 by the truth's projection. Scaled by 3 about the camera, three 0.91 m cones (11, 5, 16) form
+// nearly the same triangle, and that assignment fits as well (the camera 4 m up instead of 1.4 m);
+// the search used to take it (7.3 m and 52 degrees off) and pose_ekf followed. With both passing the
+// chi-square gate the frame cannot tell them apart: no pose.
+TEST(LargeLayout, AScaledTwinAssignmentRefusesTheColdStart) {
+  rig_sim::RandomLayoutConfig lc;
+  lc.cones = 30, lc.seed = 3, lc.side_m = 26.0;
+  const std::vector<ConeModel> cones = ConeModels(rig_sim::RandomLayout(lc));
+  CameraModel cam;
+  cam.width_px = 512, cam.height_px = 384, cam.fx_px = 385.0, cam.fy_px = 388.0, cam.cx_px = 255.5, cam.cy_px = 191.5;
+  const double px[3][6] = {{220.427, 172.816, 219.309, 182.672, 218.19, 192.529},
+                           {349.745, 197.804, 348.406, 207.369, 347.068, 216.934},
+                           {536.994, 346.954, 530.07, 372.369, 523.146, 397.784}};
+  std::vector<ConeDetection> dets(3);
+  for (size_t i = 0; i < 3; ++i) {
+    dets[i].peak_undist_px = {px[i][0], px[i][1]}, dets[i].mid_undist_px = {px[i][2], px[i][3]};
+    dets[i].base_undist_px = {px[i][4], px[i][5]};
+  }
+  const ConePoseResult r = EstimateConePose(dets, cones, cam, ConePoseConfig(), std::nullopt);
+  std::printf("30-cone twin frame: ok %d, ids %d %d %d, chi2 %.2f, rival chi2 %.2f (ids %d %d %d), gate %.2f\n",
+              int(r.ok), r.cone_of_detection[0], r.cone_of_detection[1], r.cone_of_detection[2], r.chi2, r.rival_chi2,
+              r.rival_cone_of_detection.empty() ? -1 : r.rival_cone_of_detection[0],
+              r.rival_cone_of_detection.empty() ? -1 : r.rival_cone_of_detection[1],
+              r.rival_cone_of_detection.empty() ? -1 : r.rival_cone_of_detection[2], r.chi2_threshold);
+  if (r.ok) {
+    EXPECT_EQ(r.cone_of_detection, (std::vector<int>{14, 26, 10}));  // right, or refused: never wrong
+  } else {
+    EXPECT_TRUE(r.rejected_by & kPoseAmbiguous) << r.error;
+  }
+}
+
 }  // namespace cone_tracker

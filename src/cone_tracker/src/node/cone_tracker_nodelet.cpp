@@ -12,6 +12,7 @@
 #include <pluginlib/class_list_macros.hpp>
 
 #include <algorithm>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <set>
@@ -47,6 +48,8 @@ class ConeTrackerNodelet : public nodelet::Nodelet {
   void OnCameraInfo(const sensor_msgs::CameraInfoConstPtr& msg);
   void OnReconfigure(ConeTrackerConfig& cfg, uint32_t level);
   std::optional<pose_math::Pose> TfPrediction(const ros::Time& stamp);
+  void OnFilterPose(const geometry_msgs::PoseWithCovarianceStampedConstPtr& msg);
+  std::optional<pose_math::Matrix6d> FilterCovariance(const ros::Time& stamp) const;
   void Report(const FrameResult& r, const sensor_msgs::Image& image);
   void Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
 
@@ -55,7 +58,8 @@ class ConeTrackerNodelet : public nodelet::Nodelet {
   std::unique_ptr<image_transport::ImageTransport> it_;
   image_transport::Subscriber image_sub_;
   image_transport::Publisher debug_pub_;
-  ros::Subscriber info_sub_;
+  ros::Subscriber info_sub_, filter_pose_sub_;
+  std::deque<geometry_msgs::PoseWithCovarianceStampedConstPtr> filter_poses_;  // pose_ekf/pose, the last second
   ros::Publisher pose_pub_, detections_pub_, observations_pub_, markers_pub_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
@@ -68,7 +72,7 @@ class ConeTrackerNodelet : public nodelet::Nodelet {
   FrameStatus last_status_ = FrameStatus::kNoCameraInfo;
   bool any_frame_ = false;
   RunningStat latency_ms_, processing_ms_;
-  uint64_t tf_predictions_ = 0, debug_images_ = 0;
+  uint64_t tf_predictions_ = 0, debug_images_ = 0, filter_poses_refused_ = 0;
 };
 
 void ConeTrackerNodelet::onInit() {
@@ -124,6 +128,8 @@ void ConeTrackerNodelet::SetUpPublishers(ros::NodeHandle& nh, const NodeConfig& 
   if (config.use_tf_prediction) {
     tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
     tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
+    // The tf prediction's covariance, for the per-cone association's spread (pose/associate.h).
+    filter_pose_sub_ = nh.subscribe("pose_ekf/pose", 50, &ConeTrackerNodelet::OnFilterPose, this);
   }
   pose_pub_ = nh.advertise<geometry_msgs::PoseWithCovarianceStamped>("cone_tracker/pose", 10);
   detections_pub_ = nh.advertise<ConeDetections>("cone_tracker/detections", 10);
@@ -189,13 +195,45 @@ std::optional<pose_math::Pose> ConeTrackerNodelet::TfPrediction(const ros::Time&
   return T;
 }
 
+void ConeTrackerNodelet::OnFilterPose(const geometry_msgs::PoseWithCovarianceStampedConstPtr& msg) {
+  if (!adapter_) return;
+  const pose_math::Matrix6d cov =
+      Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(msg->pose.covariance.data());
+  const bool frame_ok = msg->header.frame_id == adapter_->config().fixed_frame;
+  if (!frame_ok || !cov.allFinite() || !(cov.diagonal().minCoeff() > 0.0)) {
+    ++filter_poses_refused_;
+    const std::string why = frame_ok ? "pose.covariance is not finite with a positive diagonal"
+                                     : "header.frame_id is '" + msg->header.frame_id + "', expected '" +
+                                           adapter_->config().fixed_frame + "'";
+    NODELET_WARN_THROTTLE(5.0, "cone_tracker: %s: %s; its covariance is not used for the association",
+                          filter_pose_sub_.getTopic().c_str(), why.c_str());
+    return;
+  }
+  if (!filter_poses_.empty() && msg->header.stamp < filter_poses_.back()->header.stamp) filter_poses_.clear();
+  filter_poses_.push_back(msg);
+  while (filter_poses_.size() > 1 && (msg->header.stamp - filter_poses_.front()->header.stamp).toSec() > 1.0)
+    filter_poses_.pop_front();
+}
+
+// The covariance of pose_ekf's estimate nearest the image stamp, if within prediction_max_age_s.
+std::optional<pose_math::Matrix6d> ConeTrackerNodelet::FilterCovariance(const ros::Time& stamp) const {
+  const geometry_msgs::PoseWithCovarianceStamped* best = nullptr;
+  for (const auto& m : filter_poses_)
+    if (!best || std::abs((m->header.stamp - stamp).toSec()) < std::abs((best->header.stamp - stamp).toSec()))
+      best = m.get();
+  if (!best || std::abs((best->header.stamp - stamp).toSec()) > adapter_->config().prediction_max_age_s)
+    return std::nullopt;
+  return pose_math::Matrix6d(
+      Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(best->pose.covariance.data()));
+}
+
 void ConeTrackerNodelet::OnImage(const sensor_msgs::ImageConstPtr& msg) {
   if (!adapter_) return;
   const ros::WallTime start = ros::WallTime::now();
   try {
     any_frame_ = true;
     image_freq_->Tick(msg->header.stamp);
-    const FrameResult r = adapter_->Process(msg, TfPrediction(msg->header.stamp));
+    const FrameResult r = adapter_->Process(msg, TfPrediction(msg->header.stamp), FilterCovariance(msg->header.stamp));
     if (r.pose) {
       pose_freq_->Tick(r.pose->header.stamp);
       pose_pub_.publish(r.pose);
@@ -263,6 +301,7 @@ void ConeTrackerNodelet::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("frames with too few cones", c.too_few_cones);
   stat.add("rejected by chi-square gate", c.rejected_chi2);
   stat.add("rejected by motion gate", c.rejected_motion);
+  stat.add("cold starts refused (another assignment fits too)", c.rejected_ambiguous);
   stat.add("pose solver failures", c.solver_failed);
   stat.add("observations published", c.observation_msgs);
   stat.add("observed cones (mean per observation)",
@@ -283,6 +322,8 @@ void ConeTrackerNodelet::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("time jumps back", c.time_jumps);
   stat.add("re-acquisitions (tf prediction ignored)", c.reacquisitions);
   stat.add("tf predictions used", tf_predictions_);
+  stat.add("associations spread by pose_ekf's covariance", c.association_filter_covariance);
+  stat.add("pose_ekf/pose messages refused (frame or covariance)", filter_poses_refused_);
   stat.add("debug images built", debug_images_);
   stat.add("latency stamp to publish last (ms)", latency_ms_.last);
   stat.add("latency stamp to publish max (ms)", latency_ms_.max);

@@ -67,13 +67,18 @@ const char* ToString(FrameStatus s) {
       return "rejected by the chi-square gate";
     case FrameStatus::kRejectedMotion:
       return "rejected by the motion gate";
+    case FrameStatus::kRejectedAmbiguous:
+      return "rejected: another assignment of the cones fits too";
   }
   return "?";
 }
 
 std::vector<std::string> PoseGateNames(uint32_t bits) {
-  static const std::pair<uint32_t, const char*> kNames[] = {
-      {kPoseTooFewCones, "too_few_cones"}, {kPoseSolverFailed, "solver"}, {kPoseChi2, "chi2"}, {kPoseMotion, "motion"}};
+  static const std::pair<uint32_t, const char*> kNames[] = {{kPoseTooFewCones, "too_few_cones"},
+                                                            {kPoseSolverFailed, "solver"},
+                                                            {kPoseChi2, "chi2"},
+                                                            {kPoseMotion, "motion"},
+                                                            {kPoseAmbiguous, "ambiguous"}};
   std::vector<std::string> out;
   for (const auto& [bit, name] : kNames)
     if (bits & bit) out.emplace_back(name);
@@ -139,7 +144,8 @@ std::optional<pose_math::Pose> TrackerAdapter::Prediction(const ros::Time& stamp
 }
 
 FrameResult TrackerAdapter::Process(const sensor_msgs::ImageConstPtr& msg,
-                                    const std::optional<pose_math::Pose>& tf_T_cones_camera) {
+                                    const std::optional<pose_math::Pose>& tf_T_cones_camera,
+                                    const std::optional<pose_math::Matrix6d>& tf_cov_ros) {
   ++counters_.frames;
   if (!msg) return ++counters_.bad_image, Fail(FrameStatus::kBadImage, "null image message");
   const sensor_msgs::Image& im = *msg;
@@ -210,8 +216,9 @@ FrameResult TrackerAdapter::Process(const sensor_msgs::ImageConstPtr& msg,
   const ros::Time since = last_T_cones_camera_ ? last_pose_stamp_ : track_start_stamp_;
   const bool track_lost = (im.header.stamp - since).toSec() > config_.reacquire_after_s;
   const double since_tracked_s = tracked_stamp_.isZero() ? INFINITY : (im.header.stamp - tracked_stamp_).toSec();
+  const bool from_tf = r.prediction_source == "tf";
   FillPose(im, pred, track_lost, &r);
-  FillObservations(im, pred, since_tracked_s, &r);
+  FillObservations(im, pred, from_tf ? tf_cov_ros : std::nullopt, since_tracked_s, &r);
   return r;
 }
 
@@ -275,6 +282,10 @@ void TrackerAdapter::FillPose(const sensor_msgs::Image& im, const std::optional<
     r->status = FrameStatus::kRejectedChi2;
     why << "chi-square gate (6.4.1): " << cp.chi2 << " > " << cp.chi2_threshold << " at probability "
         << config_.pose.chi2_probability;
+  } else if (cp.rejected_by & kPoseAmbiguous) {
+    ++counters_.rejected_ambiguous;
+    r->status = FrameStatus::kRejectedAmbiguous;
+    why << "cold start refused: " << cp.error;
   } else if (cp.rejected_by & kPoseMotion) {
     ++counters_.rejected_motion;
     r->status = FrameStatus::kRejectedMotion;

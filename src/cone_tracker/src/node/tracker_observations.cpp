@@ -23,7 +23,8 @@ ConePoints2d PointsOf(const ConeDetection& d) { return {d.peak_undist_px, d.mid_
 }  // namespace
 
 void TrackerAdapter::FillObservations(const sensor_msgs::Image& im, const std::optional<pose_math::Pose>& pred,
-                                      double since_tracked_s, FrameResult* r) {
+                                      const std::optional<pose_math::Matrix6d>& pred_cov_ros, double since_tracked_s,
+                                      FrameResult* r) {
   const std::vector<ConeDetection>& dets = r->segmentation.cones;
   if (dets.empty()) return;
   std::vector<ConePoints2d> points;
@@ -38,12 +39,22 @@ void TrackerAdapter::FillObservations(const sensor_msgs::Image& im, const std::o
     a.gate_probability = config_.pose.chi2_probability;
     a.ambiguity_margin = config_.association_margin;
     a.prediction_sigma_rad = config_.prediction_sigma_deg * M_PI / 180.0;
-    // pose_ekf's position drifts while no cone is fused; its orientation
-    // (gyros) stays near the prediction's (test/README.md).
-    a.prediction_sigma_m = config_.prediction_drift_m_s > 0.0
-                               ? std::min(config_.prediction_max_sigma_m,
-                                          config_.prediction_sigma_m + config_.prediction_drift_m_s * since_tracked_s)
-                               : config_.prediction_sigma_m;
+    if (pred_cov_ros) {
+      // pose_ekf's own covariance, plus the prediction's error beyond it (prediction_sigma_*).
+      a.prediction_cov = AssociationPrior(pred->q, *pred_cov_ros);
+      a.prediction_cov->diagonal() += Eigen::Matrix<double, 6, 1>(
+          (Eigen::Matrix<double, 6, 1>() << Eigen::Vector3d::Constant(a.prediction_sigma_rad * a.prediction_sigma_rad),
+           Eigen::Vector3d::Constant(config_.prediction_sigma_m * config_.prediction_sigma_m))
+              .finished());
+      ++counters_.association_filter_covariance;
+    } else {
+      // Without the filter's covariance: pose_ekf's position drifts while no cone is
+      // fused; its orientation (gyros) stays near the prediction's (test/README.md).
+      a.prediction_sigma_m = config_.prediction_drift_m_s > 0.0
+                                 ? std::min(config_.prediction_max_sigma_m,
+                                            config_.prediction_sigma_m + config_.prediction_drift_m_s * since_tracked_s)
+                                 : config_.prediction_sigma_m;
+    }
     std::vector<ConePoints3d> model;
     for (const ConeModel& c : layout_) {
       const auto p = CorrectedModelPoints(c, pred->t);  // pred->t: the camera in `cones`

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Geometry>
 #include <boost/math/distributions/chi_squared.hpp>
 
 #include "pose_math/rotation.h"
@@ -27,8 +28,8 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
 // of the camera (R' = Exp(dtheta) R, in the camera frame) and a shift of its
 // position in `cones`: p_camera = R (p - c) moves by dtheta x p_camera - R dc.
 bool ProjectCone(const ConePoints3d& pts, const Eigen::Matrix3d& R, const Eigen::Vector3d& eye, const CameraModel& cam,
-                 const AssociationConfig& cfg, ConeCandidate* out) {
-  const double mu = cfg.outside_frac * cam.width_px, mv = cfg.outside_frac * cam.height_px;
+                 const AssociationConfig& cfg, ConeCandidate* out, double extra_px = 0.0) {
+  const double mu = cfg.outside_frac * cam.width_px + extra_px, mv = cfg.outside_frac * cam.height_px + extra_px;
   for (int i = 0; i < 3; ++i) {
     const Eigen::Vector3d p = R * (pts[size_t(i)] - eye);
     if (!(p.z() > cfg.min_depth_m)) return false;
@@ -42,6 +43,13 @@ bool ProjectCone(const ConePoints3d& pts, const Eigen::Matrix3d& R, const Eigen:
     out->jacobian.block<2, 3>(2 * i, 3) = duv_dp * -R;
   }
   return true;
+}
+
+// exp of the skew matrix of v: the rotation by |v| about v (R' = Exp(dtheta) R above).
+Eigen::Matrix3d Exp(const Eigen::Vector3d& v) {
+  const double a = v.norm();
+  if (a < 1e-12) return Eigen::Matrix3d::Identity() + Skew(v);
+  return Eigen::AngleAxisd(a, v / a).toRotationMatrix();
 }
 
 Vector6d Stack(const ConePoints2d& d) {
@@ -61,6 +69,16 @@ std::string AssociationConfig::Validate() const {
   if (!(outside_frac >= 0.0)) return "outside_frac must be >= 0";
   if (!(min_depth_m > 0.0)) return "min_depth_m must be > 0";
   return "";
+}
+
+Matrix6d AssociationPrior(const pose_math::Quat& q_cones_camera, const Matrix6d& cov_ros) {
+  // R_camera_cones' = (Exp(dtheta) R_cones_camera)' = Exp(-R_camera_cones dtheta) R_camera_cones.
+  const Eigen::Matrix3d R_camera_cones = pose_math::RotationFromQuat(q_cones_camera).transpose();
+  Matrix6d A = Matrix6d::Zero();  // (rotation in the camera frame, position) from (position, rotation in cones)
+  A.block<3, 3>(0, 3) = -R_camera_cones;
+  A.block<3, 3>(3, 0) = Eigen::Matrix3d::Identity();
+  const Matrix6d P = A * cov_ros * A.transpose();
+  return 0.5 * (P + P.transpose());
 }
 
 std::array<Eigen::Matrix2d, 3> PointCovariances(const ConePoints2d& pts, double area_px, double sigma_px) {
@@ -87,6 +105,13 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
   out.d2.assign(nd, std::numeric_limits<double>::quiet_NaN());
   const Eigen::Matrix3d R = pose_math::RotationFromQuat(T_pred.q);
   const Eigen::Vector3d eye = -(R.transpose() * T_pred.t);
+  Matrix6d prior = Matrix6d::Zero();
+  if (cfg.prediction_cov) {
+    prior = 0.5 * (*cfg.prediction_cov + cfg.prediction_cov->transpose());
+  } else {
+    prior.diagonal() << Eigen::Vector3d::Constant(cfg.prediction_sigma_rad * cfg.prediction_sigma_rad),
+        Eigen::Vector3d::Constant(cfg.prediction_sigma_m * cfg.prediction_sigma_m);
+  }
   std::vector<Eigen::Vector4d> boxes;  // predicted silhouette: u_min, v_min, u_max, v_max
   for (size_t c = 0; c < model_cones.size(); ++c) {
     ConeCandidate k;
@@ -117,71 +142,138 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
   }
   out.candidates = apart;
   const size_t nc = out.candidates.size();
-  Matrix6d prior = Matrix6d::Zero();
-  prior.diagonal() << Eigen::Vector3d::Constant(cfg.prediction_sigma_rad * cfg.prediction_sigma_rad),
-      Eigen::Vector3d::Constant(cfg.prediction_sigma_m * cfg.prediction_sigma_m);
   const double gate = boost::math::quantile(boost::math::chi_squared(6), cfg.gate_probability);
   out.cost = gate * double(nd);
   if (nc == 0 || nd == 0) return out;
+  const Eigen::LDLT<Matrix6d> prior_ldlt(prior);
+  if (prior_ldlt.info() != Eigen::Success || !(prior_ldlt.vectorD().minCoeff() > 0.0)) return out;
 
-  std::vector<Matrix6d> noise(nd);  // the detection's three points, block diagonal
+  std::vector<Matrix6d> noise_inv(nd);  // the detection's three points, block diagonal
   for (size_t d = 0; d < nd; ++d) {
-    noise[d].setZero();
-    for (int i = 0; i < 3; ++i) noise[d].block<2, 2>(2 * i, 2 * i) = point_cov[d][size_t(i)];
+    noise_inv[d].setZero();
+    for (int i = 0; i < 3; ++i) noise_inv[d].block<2, 2>(2 * i, 2 * i) = point_cov[d][size_t(i)].inverse();
   }
-  // Per pair: its own chi2, gated (a cone far from every prediction is no candidate).
+  const std::vector<ConePoints3d>& model = model_cones;
+  // The fit of matched (detection, candidate) pairs: minimise over the pose shift x = (rotation in the
+  // camera frame, camera position) J(x) = x' P^-1 x + sum_i r_i(x)' N_i^-1 r_i(x), Gauss-Newton from
+  // `start`, every step reprojected (with the prediction's Jacobian at x = 0 one step is the first-order
+  // Mahalanobis distance r' (J P J' + N)^-1 r of the stacked points). Returns J and the pose shift.
+  struct Fit {
+    double cost = INFINITY;
+    Vector6d x = Vector6d::Zero();
+  };
+  const auto fit = [&](const std::vector<std::pair<size_t, size_t>>& pairs, const Vector6d& start) {
+    ++out.fits;
+    std::vector<ConeCandidate> at(pairs.size());
+    const auto project = [&](const Vector6d& x) {
+      const Eigen::Matrix3d Rx = Exp(x.head<3>()) * R;
+      const Eigen::Vector3d ex = eye + x.tail<3>();
+      for (size_t i = 0; i < pairs.size(); ++i)
+        if (!ProjectCone(model[size_t(out.candidates[pairs[i].second].cone)], Rx, ex, cam, cfg, &at[i], INFINITY))
+          return false;
+      return true;
+    };
+    const auto cost_at = [&](const Vector6d& x) {
+      if (!project(x)) return double(INFINITY);
+      double c = x.dot(prior_ldlt.solve(x));
+      for (size_t i = 0; i < pairs.size(); ++i) {
+        const Vector6d r = Stack(dets[pairs[i].first]) - at[i].predicted_px;
+        c += r.dot(noise_inv[pairs[i].first] * r);
+      }
+      return c;
+    };
+    Fit f;
+    f.x = start;
+    f.cost = cost_at(f.x);
+    if (!std::isfinite(f.cost)) {
+      f.x.setZero();
+      f.cost = cost_at(f.x);
+    }
+    const Matrix6d prior_inv = prior_ldlt.solve(Matrix6d::Identity());
+    for (int it = 0; it < std::max(cfg.fit_iterations, 1) && std::isfinite(f.cost); ++it) {
+      if (!project(f.x)) break;
+      Matrix6d A = prior_inv;
+      Vector6d b = -prior_inv * f.x;
+      for (size_t i = 0; i < pairs.size(); ++i) {
+        const Matrix6d& Ni = noise_inv[pairs[i].first];
+        const Vector6d r = Stack(dets[pairs[i].first]) - at[i].predicted_px;
+        A += at[i].jacobian.transpose() * Ni * at[i].jacobian;
+        b += at[i].jacobian.transpose() * Ni * r;
+      }
+      const Vector6d step = A.ldlt().solve(b);
+      if (cfg.fit_iterations == 0) {  // first order at the prediction: r' (J P J' + N)^-1 r
+        f.cost -= b.dot(step);
+        f.x += step;
+        break;
+      }
+      double lambda = 1.0, c = cost_at(f.x + step);
+      for (int halving = 0; halving < 6 && !(c < f.cost); ++halving) c = cost_at(f.x + (lambda *= 0.5) * step);
+      if (!(c < f.cost)) break;
+      const bool converged = f.cost - c < 1e-3 * (1.0 + c);
+      f.x += lambda * step, f.cost = c;
+      if (converged) break;
+    }
+    return f;
+  };
+  // Per pair: its own fit, gated (a cone far from every prediction is no candidate).
   std::vector<std::vector<double>> pair_d2(nd, std::vector<double>(nc, INFINITY));
+  std::vector<std::vector<Fit>> pair_fit(nd, std::vector<Fit>(nc));
   for (size_t d = 0; d < nd; ++d)
     for (size_t c = 0; c < nc; ++c) {
-      const ConeCandidate& k = out.candidates[c];
-      const Matrix6d S = k.jacobian * prior * k.jacobian.transpose() + noise[d];
-      const Vector6d r = Stack(dets[d]) - k.predicted_px;
-      const double e = r.dot(S.ldlt().solve(r));
-      if (e < gate) pair_d2[d][c] = e;
+      pair_fit[d][c] = fit({{d, c}}, Vector6d::Zero());
+      if (pair_fit[d][c].cost < gate) pair_d2[d][c] = pair_fit[d][c].cost;
     }
+  std::vector<std::vector<size_t>> order(nd);  // each detection's gated candidates, best first
+  for (size_t d = 0; d < nd; ++d) {
+    for (size_t c = 0; c < nc; ++c)
+      if (std::isfinite(pair_d2[d][c])) order[d].push_back(c);
+    std::sort(order[d].begin(), order[d].end(), [&](size_t a, size_t b) { return pair_d2[d][a] < pair_d2[d][b]; });
+  }
 
-  // Every injective assignment of gated pairs, scored jointly.
+  // Every injective assignment of gated pairs, scored jointly. Adding a cone to an assignment never
+  // lowers its fit's cost, and an unmatched detection costs the gate, so a partial assignment already
+  // costlier than the best complete one plus the ambiguity margin can neither win nor be a rival: cut.
   struct Scored {
     std::vector<int> a;  // candidate index per detection, -1 none
-    double cost;
+    Fit fit;
   };
   std::vector<Scored> all;
   std::vector<int> cur(nd, -1);
   std::vector<bool> used(nc, false);
-  std::function<void(size_t)> search = [&](size_t d) {
+  std::vector<std::pair<size_t, size_t>> pairs;
+  double best_cost = INFINITY;
+  std::function<void(size_t, const Fit&, int)> search = [&](size_t d, const Fit& partial, int unmatched) {
     if (out.too_many) return;
-    if (d == nd) {
-      std::vector<size_t> ds;
-      for (size_t i = 0; i < nd; ++i)
-        if (cur[i] >= 0) ds.push_back(i);
-      const int n = int(ds.size());
-      Eigen::VectorXd r(6 * n);
-      Eigen::MatrixXd J(6 * n, 6), S = Eigen::MatrixXd::Zero(6 * n, 6 * n);
-      for (int i = 0; i < n; ++i) {
-        const ConeCandidate& k = out.candidates[size_t(cur[ds[size_t(i)]])];
-        r.segment<6>(6 * i) = Stack(dets[ds[size_t(i)]]) - k.predicted_px;
-        J.block<6, 6>(6 * i, 0) = k.jacobian;
-        S.block<6, 6>(6 * i, 6 * i) = noise[ds[size_t(i)]];
-      }
-      S += J * prior * J.transpose();
-      const double cost = (n ? r.dot(S.ldlt().solve(r)) : 0.0) + gate * double(nd - ds.size());
-      all.push_back({cur, cost});
-      if (all.size() >= cfg.max_assignments) out.too_many = true;
+    const double lower = partial.cost + gate * double(unmatched);
+    if (lower >= best_cost + cfg.ambiguity_margin) return;
+    if (size_t(out.fits) >= cfg.max_assignments) {
+      out.too_many = true;
       return;
     }
-    for (size_t c = 0; c < nc; ++c) {
-      if (used[c] || !std::isfinite(pair_d2[d][c])) continue;
+    if (d == nd) {
+      all.push_back({cur, partial});
+      all.back().fit.cost = lower;
+      best_cost = std::min(best_cost, lower);
+      return;
+    }
+    for (size_t c : order[d]) {
+      if (used[c]) continue;
       used[c] = true, cur[d] = int(c);
-      search(d + 1);
+      pairs.emplace_back(d, c);
+      const Fit f = pairs.size() == 1 ? pair_fit[d][c] : fit(pairs, partial.x);
+      search(d + 1, f, unmatched);
+      pairs.pop_back();
       used[c] = false, cur[d] = -1;
     }
-    search(d + 1);  // a distractor, or a cone the prediction does not reach
+    search(d + 1, partial, unmatched + 1);  // a distractor, or a cone the prediction does not reach
   };
-  search(0);
-  if (out.too_many) return out;
-  const auto best =
-      std::min_element(all.begin(), all.end(), [](const Scored& x, const Scored& y) { return x.cost < y.cost; });
-  out.cost = best->cost;
+  Fit none;
+  none.cost = 0.0;
+  search(0, none, 0);
+  if (out.too_many || all.empty()) return out;
+  const auto best = std::min_element(all.begin(), all.end(),
+                                     [](const Scored& x, const Scored& y) { return x.fit.cost < y.fit.cost; });
+  out.cost = best->fit.cost;
   const double gate2 = boost::math::quantile(boost::math::chi_squared(2), cfg.gate_probability);
   for (size_t d = 0; d < nd && !out.conflict; ++d) {
     if (best->a[d] >= 0) continue;
@@ -201,8 +293,8 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
     // The nearest rival: any assignment giving this detection another cone.
     double rival = INFINITY;
     for (const Scored& s : all)
-      if (s.a[d] >= 0 && s.a[d] != c) rival = std::min(rival, s.cost);
-    if (rival - best->cost < cfg.ambiguity_margin) {
+      if (s.a[d] >= 0 && s.a[d] != c) rival = std::min(rival, s.fit.cost);
+    if (rival - best->fit.cost < cfg.ambiguity_margin) {
       ++out.ambiguous;
       continue;
     }

@@ -121,7 +121,7 @@ void EnumerateFull(size_t d, size_t n_dets, size_t n_cones, Assignment* cur, std
 
 PnpResult SolveOnce(const std::vector<ConeDetection>& dets, const std::vector<ConeModel>& cones, const Assignment& a,
                     const CameraModel& cam, const ConePoseConfig& cfg, const std::optional<pose_math::Pose>& initial,
-                    const Eigen::Vector3d& eye) {
+                    const Eigen::Vector3d& eye, bool covariance) {
   std::vector<Eigen::Vector3d> model;
   std::vector<Eigen::Vector2d> image;
   for (size_t d = 0; d < dets.size(); ++d) {
@@ -138,27 +138,46 @@ PnpResult SolveOnce(const std::vector<ConeDetection>& dets, const std::vector<Co
   pinhole.distortion.clear();
   PnpOptions opt;
   opt.sigma_px = cfg.sigma_px;
+  opt.compute_covariance = covariance;
+  // A rival's fit (no covariance wanted): no restarts from other starts either; a rival that fits
+  // converges from the first, and one that does not is no rival.
+  if (!covariance) opt.best_restart_rms_factor = INFINITY;
   return SolvePnp(pinhole, model, image, opt, initial);
 }
 
 // The surface points (3.1.4) and the image of the mid point depend on where the
 // camera is: solve from the prediction's (or, without one, the axis points'),
 // then correct both from the solution and solve again until the eye settles.
+// rival_only: a rival's fit for the ambiguity test: no covariance, no restarts, one correction of the
+// surface points.
 PnpResult Solve(const std::vector<ConeDetection>& dets, const std::vector<ConeModel>& cones, const Assignment& a,
-                const CameraModel& cam, const ConePoseConfig& cfg, const std::optional<pose_math::Pose>& initial) {
-  constexpr int kCorrections = 3;
+                const CameraModel& cam, const ConePoseConfig& cfg, const std::optional<pose_math::Pose>& initial,
+                bool rival_only = false) {
+  const int kCorrections = rival_only ? 1 : 3;
   constexpr double kSettledM = 1e-3;
-  PnpResult r =
-      SolveOnce(dets, cones, a, cam, cfg, initial, initial ? CameraInCones(*initial) : Eigen::Vector3d::Zero().eval());
+  PnpResult r = SolveOnce(dets, cones, a, cam, cfg, initial,
+                          initial ? CameraInCones(*initial) : Eigen::Vector3d::Zero().eval(), !rival_only);
   for (int i = 0; i < kCorrections && r.ok; ++i) {
     const Eigen::Vector3d eye = CameraInCones(r.T_camera_model);
-    PnpResult again = SolveOnce(dets, cones, a, cam, cfg, r.T_camera_model, eye);
+    PnpResult again = SolveOnce(dets, cones, a, cam, cfg, r.T_camera_model, eye, !rival_only);
     if (!again.ok) break;
     const double moved_m = (CameraInCones(again.T_camera_model) - eye).norm();
     r = std::move(again);
     if (moved_m < kSettledM) break;
   }
   return r;
+}
+
+// 6.4.1: chi2 of the image residuals (6.2), and its gate (6.3) with 2N - 6 dof
+// (the thesis's k = 2n less the six fitted pose parameters).
+double Chi2(const PnpResult& r, double sigma_px) {
+  double chi2 = 0.0;
+  for (const Eigen::Vector2d& e : r.residuals_px) chi2 += e.squaredNorm() / (sigma_px * sigma_px);
+  return chi2;
+}
+
+double Chi2Threshold(int dof, double probability) {
+  return dof > 0 ? boost::math::quantile(boost::math::chi_squared(dof), probability) : INFINITY;
 }
 
 }  // namespace
@@ -206,6 +225,7 @@ std::string ConePoseConfig::Validate() const {
   if (!(chi2_probability > 0.0 && chi2_probability < 1.0)) return "chi2_probability must be in (0, 1)";
   if (!(max_translation_change_m > 0.0)) return "max_translation_change_m must be > 0";
   if (!(max_rotation_change_deg > 0.0)) return "max_rotation_change_deg must be > 0";
+  if (!(ambiguity_margin >= 0.0)) return "ambiguity_margin must be >= 0";
   return "";
 }
 
@@ -247,10 +267,22 @@ ConePoseResult EstimateConePose(const std::vector<ConeDetection>& dets, const st
     // layouts) go to the heading prior when there is one.
     double best_score = INFINITY;
     const bool searched = !(dets.size() <= kExhaustiveMax && cones.size() <= kExhaustiveMax);
-    for (Assignment a : all) {
-      PnpResult r = Solve(dets, cones, a, cam, cfg, std::nullopt);
+    struct Solved {
+      Assignment a;
+      int matched;
+      double chi2;
+      bool consistent;
+    };
+    std::vector<Solved> solved;
+    int best_matched = 0;
+    for (size_t k = 0; k < all.size(); ++k) {
+      Assignment a = all[k];
+      // Once a candidate fitted every detection well, the rest are only checked as its rivals; so
+      // are those beyond the search's max_candidates.
+      const bool rival_only = best_matched > 0 || (searched && k >= search.max_candidates);
+      PnpResult r = Solve(dets, cones, a, cam, cfg, std::nullopt, rival_only);
       if (!r.ok) continue;
-      if (searched) {  // the rough pose's gate may have missed a cone: match again at the solved pose
+      if (searched && !rival_only) {  // the rough pose's gate may have missed a cone: match again at the solved pose
         const Assignment again = AssignByPrediction(dets, cones, cam, cfg, r.T_camera_model);
         const auto n = [](const Assignment& x) {
           return std::count_if(x.begin(), x.end(), [](int c) { return c >= 0; });
@@ -261,17 +293,35 @@ ConePoseResult EstimateConePose(const std::vector<ConeDetection>& dets, const st
         }
       }
       const int matched = int(std::count_if(a.begin(), a.end(), [](int c) { return c >= 0; }));
+      // Searched candidates come most matches first: once one with every detection fitted well is
+      // found, only candidates matching as many can still be its rivals.
+      if (searched && matched < best_matched) break;
       double score = r.reproj_rms_px - 100.0 * matched;
       // A wrong hypothesis may gather more (distractor) matches than the right one, but not fit them.
-      if (searched && r.reproj_rms_px > std::max(search.max_consistent_rms_px, 3.0 * cfg.sigma_px)) score += 1e4;
+      const bool consistent = r.reproj_rms_px <= std::max(search.max_consistent_rms_px, 3.0 * cfg.sigma_px);
+      if (searched && !consistent) score += 1e4;
+      if (searched) solved.push_back({a, matched, Chi2(r, cfg.sigma_px), consistent});
+      if (rival_only) continue;
       if (std::isfinite(cfg.initial_heading_rad)) {
         const Eigen::Vector3d eye = CameraInCones(r.T_camera_model);
         const double dh = std::remainder(std::atan2(eye.y(), eye.x()) - cfg.initial_heading_rad, 2.0 * M_PI);
         score += 0.5 * std::abs(dh);  // breaks ties of equal residual only
       }
       if (score < best_score) best_score = score, out.pnp = r, out.cone_of_detection = a;
-      // Searched candidates come most matches first: one that fits every detection well ends the search.
-      if (searched && matched == int(dets.size()) && r.reproj_rms_px <= 1.5 * cfg.sigma_px) break;
+      if (searched && matched == int(dets.size()) && r.reproj_rms_px <= 1.5 * cfg.sigma_px)
+        best_matched = std::max(best_matched, matched);
+    }
+    // A rival: a consistent solution as good in matches that gives some detection another cone; if
+    // it passes the 6.4.1 gate too, within ambiguity_margin of the best (below), two self-consistent
+    // poses and nothing in this frame to choose.
+    const int n_best =
+        int(std::count_if(out.cone_of_detection.begin(), out.cone_of_detection.end(), [](int c) { return c >= 0; }));
+    for (const Solved& s : solved) {
+      if (!s.consistent || s.matched < n_best || s.a == out.cone_of_detection) continue;
+      bool differs = false;
+      for (size_t d = 0; d < s.a.size(); ++d)
+        differs |= s.a[d] >= 0 && out.cone_of_detection[d] >= 0 && s.a[d] != out.cone_of_detection[d];
+      if (differs && s.chi2 < out.rival_chi2) out.rival_chi2 = s.chi2, out.rival_cone_of_detection = s.a;
     }
   }
   if (!out.pnp.ok) {
@@ -282,9 +332,13 @@ ConePoseResult EstimateConePose(const std::vector<ConeDetection>& dets, const st
   // 6.4.1: χ² of the image residuals (6.2), gated by its CDF (6.3), with 2N - 6 dof
   // (the thesis's k = 2n less the six fitted pose parameters).
   const int dof = out.chi2_dof = int(out.pnp.residuals_px.size()) * 2 - 6;
-  for (const Eigen::Vector2d& r : out.pnp.residuals_px) out.chi2 += r.squaredNorm() / (cfg.sigma_px * cfg.sigma_px);
-  out.chi2_threshold = dof > 0 ? boost::math::quantile(boost::math::chi_squared(dof), cfg.chi2_probability) : INFINITY;
+  out.chi2 = Chi2(out.pnp, cfg.sigma_px);
+  out.chi2_threshold = Chi2Threshold(dof, cfg.chi2_probability);
   if (out.chi2 > out.chi2_threshold) out.rejected_by |= kPoseChi2;
+  if (out.rival_chi2 <= out.chi2_threshold && out.rival_chi2 < out.chi2 + cfg.ambiguity_margin) {
+    out.rejected_by |= kPoseAmbiguous;
+    out.error = "another assignment of the cones fits too (chi2 " + std::to_string(out.rival_chi2) + ")";
+  }
   // 6.4.2: the change against the prediction.
   if (T_pred) {
     out.motion_checked = true;
@@ -295,7 +349,7 @@ ConePoseResult EstimateConePose(const std::vector<ConeDetection>& dets, const st
       out.rejected_by |= kPoseMotion;
   }
   out.ok = out.rejected_by == 0;
-  if (!out.ok) out.error = "rejected by a gate";
+  if (!out.ok && out.error.empty()) out.error = "rejected by a gate";
   return out;
 }
 

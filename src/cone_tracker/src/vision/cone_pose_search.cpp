@@ -50,15 +50,19 @@ bool UpInCamera(const std::vector<Eigen::Vector3d>& peak, const std::vector<Eige
   return false;
 }
 
-// Greedy matching of detections to the layout projected with a rough pose.
+// Greedy matching of detections to the layout projected with a rough pose. The pair that made the
+// pose (detection i as cone a, j as b) is the hypothesis itself: matched as it is, whatever the rough
+// pose's error at its own cones (a near cone seen at the image's edge, its axis off the estimated
+// up, can be off its own projection by more than the gate).
 Hypothesis MatchAll(const std::vector<ConeDetection>& dets, const std::vector<double>& det_height_px,
                     const std::vector<ConeModel>& cones, const CameraModel& cam, const Eigen::Matrix3d& R,
-                    const Eigen::Vector3d& t, const ConeSearchConfig& cfg) {
+                    const Eigen::Vector3d& t, const ConeSearchConfig& cfg, size_t i, size_t a, size_t j, size_t b) {
   struct Pair {
     double e;
     int d, c;
   };
   std::vector<Pair> pairs;
+  double own_e = 0.0;
   for (size_t c = 0; c < cones.size(); ++c) {
     const Eigen::Vector3d pb = R * cones[c].base_m + t;
     const Eigen::Vector3d pp = R * (cones[c].base_m + Eigen::Vector3d(0, 0, cones[c].height_m)) + t;
@@ -67,9 +71,15 @@ Hypothesis MatchAll(const std::vector<ConeDetection>& dets, const std::vector<do
     const Eigen::Vector2d peak(cam.fx_px * pp.x() / pp.z() + cam.cx_px, cam.fy_px * pp.y() / pp.z() + cam.cy_px);
     for (size_t d = 0; d < dets.size(); ++d) {
       const double gate = std::max(cfg.match_gate_height_frac * det_height_px[d], cfg.match_gate_min_rad * cam.fx_px);
-      const double e =
-          0.5 * ((dets[d].peak_undist_px - peak).squaredNorm() + (dets[d].base_undist_px - base).squaredNorm());
-      if (e < gate * gate) pairs.push_back({e, int(d), int(c)});
+      // In units of the gate: a near cone's pixels are no worse matched than a far one's at the same angle.
+      const double e = 0.5 *
+                       ((dets[d].peak_undist_px - peak).squaredNorm() + (dets[d].base_undist_px - base).squaredNorm()) /
+                       (gate * gate);
+      const bool own = (d == i && c == a) || (d == j && c == b);
+      if (own)
+        pairs.push_back({-1.0, int(d), int(c)}), own_e += e;  // sorted first
+      else if (e < 1.0)
+        pairs.push_back({e, int(d), int(c)});
     }
   }
   std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) { return a.e < b.e; });
@@ -79,8 +89,9 @@ Hypothesis MatchAll(const std::vector<ConeDetection>& dets, const std::vector<do
   for (const Pair& p : pairs) {
     if (h.assignment[size_t(p.d)] >= 0 || used[size_t(p.c)]) continue;
     h.assignment[size_t(p.d)] = p.c, used[size_t(p.c)] = true;
-    ++h.matched, h.cost += p.e;
+    ++h.matched, h.cost += std::max(p.e, 0.0);
   }
+  h.cost += own_e;
   if (h.matched > 0) h.cost /= h.matched;
   return h;
 }
@@ -141,7 +152,7 @@ std::vector<std::vector<int>> SearchAssignments(const std::vector<ConeDetection>
           const Eigen::Matrix3d R = C * W.transpose();
           const Eigen::Vector3d t = 0.5 * (pi + pj) - R * (0.5 * (cones[a].base_m + cones[b].base_m));
           ++scored;
-          Hypothesis h = MatchAll(dets, height_px, cones, cam, R, t, cfg);
+          Hypothesis h = MatchAll(dets, height_px, cones, cam, R, t, cfg, i, a, j, b);
           if (h.matched < 3 || !seen.insert(h.assignment).second) continue;
           kept.push_back(std::move(h));
         }
@@ -150,7 +161,8 @@ std::vector<std::vector<int>> SearchAssignments(const std::vector<ConeDetection>
     return x.matched != y.matched ? x.matched > y.matched : x.cost < y.cost;
   });
   std::vector<std::vector<int>> out;
-  for (size_t k = 0; k < kept.size() && k < cfg.max_candidates; ++k) out.push_back(kept[k].assignment);
+  for (size_t k = 0; k < kept.size() && k < std::max(cfg.max_candidates, cfg.max_rivals); ++k)
+    out.push_back(kept[k].assignment);
   return out;
 }
 

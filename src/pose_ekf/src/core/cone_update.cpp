@@ -306,7 +306,12 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
     }
     d2[i] = y.dot(ldlt.solve(y));
     res.worst_gate_chi2 = std::max(res.worst_gate_chi2, d2[i]);
-    if (d2[i] > cone_gate_chi2_) {
+    // Re-acquiring (min_cones > 1), the prior is metres off and yᵀ S⁻¹ y, first order at it, also
+    // counts the projection's curvature over that shift: the cone is judged by its fit instead
+    // (ConeFitCost, the iterated update's cost on the prior; README, "Re-acquisition").
+    if (d2[i] > cone_gate_chi2_ && !(min_cones > 1 && config_.cone_ambiguity_iterations > 0 &&
+                                     ConeFitCost(prior.x, prior.P, o.cone, f.K, ConePixels(o), ConeCovariance(o),
+                                                 config_.cone_ambiguity_iterations) <= cone_gate_chi2_)) {
       ++res.gated;
       continue;
     }
@@ -342,6 +347,11 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
     }
     return res.ambiguity_rival_chi2 - res.ambiguity_own_chi2 < config_.cone_ambiguity_margin;
   };
+  // Re-acquiring, the best-fitting cone goes first, so a cone the prior reaches only at first order
+  // is linearised at the state the other one corrected.
+  if (min_cones > 1)
+    std::stable_sort(candidates.begin(), candidates.end(),
+                     [&](int a, int b) { return d2[static_cast<size_t>(a)] < d2[static_cast<size_t>(b)]; });
   // 2. The remaining cones in sequence; the frame's joint NIS against chi2(4 k), else drop the
   // cone that disagreed most with the prior and try again (a wrong association that passed alone).
   UpdateResult result = UpdateResult::kGated;

@@ -42,10 +42,12 @@ struct NodeConfig {
   // `cones` (deg). NaN: none.
   double heading_prior_deg = NAN;
   // Per-cone association through the prediction (cone_tracker/observations,
-  // pose/associate.h): the prediction's 1-sigma error per axis, its position
-  // part growing by prediction_drift_m_s since the last frame with a pose or
-  // two associated cones, up to prediction_max_sigma_m; a detection keeps its
-  // cone only if every other cone costs association_margin more (chi-square).
+  // pose/associate.h): the prediction's 1-sigma error per axis, added to
+  // pose_ekf's covariance (pose_ekf/pose) with the tf prediction; without that
+  // covariance its position part grows by prediction_drift_m_s since the last
+  // frame with a pose or two associated cones, up to prediction_max_sigma_m. A
+  // detection keeps its cone only if every other cone costs association_margin
+  // more (chi-square).
   double prediction_sigma_m = 0.05;
   double prediction_sigma_deg = 2.0;
   double prediction_drift_m_s = 0.5;

@@ -33,8 +33,9 @@ enum class FrameStatus {
   kNoCones,              // no blob passed the segmentation gates
   kTooFewCones,          // 1-2 cones, or fewer than 3 matching the prediction
   kSolverFailed,
-  kRejectedChi2,    // 6.4.1
-  kRejectedMotion,  // 6.4.2
+  kRejectedChi2,       // 6.4.1
+  kRejectedMotion,     // 6.4.2
+  kRejectedAmbiguous,  // large layout, no prediction: another assignment of the cones passed 6.4.1 too
 };
 const char* ToString(FrameStatus s);
 
@@ -60,6 +61,7 @@ struct TrackerCounters {
   uint64_t no_camera_info = 0, bad_camera_info_frames = 0, bad_camera_info_msgs = 0;
   uint64_t bad_image = 0, unsupported_encoding = 0, size_mismatch = 0;
   uint64_t no_cones = 0, too_few_cones = 0, solver_failed = 0, rejected_chi2 = 0, rejected_motion = 0;
+  uint64_t rejected_ambiguous = 0;  // kRejectedAmbiguous
   uint64_t time_jumps = 0;
   uint64_t reacquisitions = 0;   // frames where a lost track re-initialised after its prediction failed
   uint64_t cones_found_sum = 0;  // accepted blobs over segmented frames
@@ -68,9 +70,10 @@ struct TrackerCounters {
   uint64_t observation_msgs = 0, observed_cones_sum = 0;
   std::map<int, uint64_t> observation_msgs_by_cones;  // associated cones per message -> messages
   uint64_t association_ambiguous = 0;                 // detections left out: two layout cones fitted nearly as well
-  uint64_t association_conflicts = 0;      // frames whose prediction was not trusted (AssociationResult::conflict)
-  uint64_t association_disagreements = 0;  // detections the prediction gave another cone than the accepted pose
-  uint64_t unobserved_no_prediction = 0;   // frames with cones but neither a pose nor a prediction
+  uint64_t association_filter_covariance = 0;  // associations spread by pose_ekf's covariance (not the drift model)
+  uint64_t association_conflicts = 0;          // frames whose prediction was not trusted (AssociationResult::conflict)
+  uint64_t association_disagreements = 0;      // detections the prediction gave another cone than the accepted pose
+  uint64_t unobserved_no_prediction = 0;       // frames with cones but neither a pose nor a prediction
   std::map<std::string, uint64_t> blobs_rejected_by_gate;  // segmentation gate name -> blobs
 };
 
@@ -82,8 +85,10 @@ class TrackerAdapter {
   // Keeps the latest camera_info. Returns false with a message when K or D is
   // unusable; frames then give kBadCameraInfo until a valid one arrives.
   bool SetCameraInfo(const sensor_msgs::CameraInfo& info, std::string* error);
-  // One frame. tf_T_cones_camera: the prediction from tf (pose_ekf), if any.
-  FrameResult Process(const sensor_msgs::ImageConstPtr& image, const std::optional<pose_math::Pose>& tf_T_cones_camera);
+  // One frame. tf_T_cones_camera: the prediction from tf (pose_ekf), if any; tf_cov_ros: its covariance
+  // as pose_ekf/pose publishes it (ROS order x y z rx ry rz, rotations about the axes of `cones`), if any.
+  FrameResult Process(const sensor_msgs::ImageConstPtr& image, const std::optional<pose_math::Pose>& tf_T_cones_camera,
+                      const std::optional<pose_math::Matrix6d>& tf_cov_ros = std::nullopt);
   // dynamic_reconfigure: the colour table is rebuilt when the HSI bounds
   // change. Throws std::invalid_argument (config unchanged) on bad values.
   void Reconfigure(const SegmenterConfig& segmenter, const ConePoseConfig& pose, const DebugImageConfig& debug);
@@ -108,8 +113,9 @@ class TrackerAdapter {
                 bool track_lost, FrameResult* r);
   // cone_tracker/observations: the pose's correspondence when it passed the
   // gates, else the association through the prediction.
+  // pred_cov_ros: the prediction's covariance (pose_ekf's), else the drift model below.
   void FillObservations(const sensor_msgs::Image& image, const std::optional<pose_math::Pose>& T_cones_camera_pred,
-                        double since_tracked_s, FrameResult* r);
+                        const std::optional<pose_math::Matrix6d>& pred_cov_ros, double since_tracked_s, FrameResult* r);
 
   NodeConfig config_;
   std::vector<ConeModel> layout_;

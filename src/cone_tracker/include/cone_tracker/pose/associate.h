@@ -6,12 +6,17 @@
 // eye, 3.1.4) is projected with the prediction; its spread is the prediction's
 // error (camera orientation and position, 1-sigma per axis) pushed through the
 // projection, plus the image noise. The cones' predicted points move together
-// with the pose, so an assignment is scored on all its matched cones at once
-// (one Mahalanobis distance of the stacked points): a common shift costs
-// little, a swap of two cones of different height or spacing costs a lot.
+// with the pose, so an assignment is scored on all its matched cones at once:
+// the camera pose that best explains them under the prediction (Gauss-Newton
+// on the prior term plus the pixel term, relinearised at every step) and its
+// cost, so a common shift costs little, a swap of two cones of different
+// height or spacing costs a lot, and a prediction metres off (pose_ekf's after
+// an outage, with its covariance) is judged at the pose the pair puts the
+// camera, not by the projection's first-order change at the prediction.
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,8 +34,12 @@ struct AssociationConfig {
   double sigma_px = 1.0;                // image noise per coordinate (ConePoseConfig::sigma_px)
   double prediction_sigma_m = 0.05;     // camera position error of the prediction, per axis
   double prediction_sigma_rad = 0.035;  // camera orientation error of the prediction, per axis
-  double gate_probability = 0.999;      // a pair fits when chi2(6 dof) of its three points is below this quantile
-  double ambiguity_margin = 9.0;  // a detection keeps its cone only if every other cone for it costs this much more
+  // The prediction's full covariance over (camera rotation, in the camera frame; camera position in
+  // `cones`), e.g. pose_ekf's; when set it replaces the two sigmas above.
+  std::optional<Eigen::Matrix<double, 6, 6>> prediction_cov;
+  int fit_iterations = 8;           // Gauss-Newton steps of an assignment's fit (0: first order at the prediction)
+  double gate_probability = 0.999;  // a pair fits when chi2(6 dof) of its three points is below this quantile
+  double ambiguity_margin = 9.0;    // a detection keeps its cone only if every other cone for it costs this much more
   double outside_frac =
       0.5;  // a cone predicted farther outside the image than this fraction of its size is no candidate
   double min_depth_m = 0.1;         // a cone point nearer than this (or behind the camera) is no candidate
@@ -57,7 +66,14 @@ struct AssociationResult {
   // either way nothing in the frame is associated.
   bool conflict = false;
   double cost = 0.0;  // of the chosen assignment (chi2 units, unmatched detections at the gate)
+  int fits = 0;       // assignments (and partial ones) fitted
 };
+
+// The prior of AssociationConfig::prediction_cov from a camera pose's covariance as ROS publishes
+// it (pose_ekf/pose: x y z, then small rotations about the fixed axes of `cones`, R' = Exp(dtheta) R
+// for R = R(q_cones_camera)): the rotation taken into the camera frame, the position kept.
+Eigen::Matrix<double, 6, 6> AssociationPrior(const pose_math::Quat& q_cones_camera,
+                                             const Eigen::Matrix<double, 6, 6>& cov_ros);
 
 // detections: undistorted points; point_cov: their 2x2 covariances (PointCovariances);
 // model_cones: each layout cone's points; camera: the pinhole of the undistorted pixels.

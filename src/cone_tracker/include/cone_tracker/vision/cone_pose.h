@@ -48,6 +48,10 @@ struct ConePoseConfig {
   // Without a prediction: the camera's heading around the layout (atan2 of its
   // position's y, x in `cones`), to pick among symmetric solutions. NaN: none.
   double initial_heading_rad = NAN;
+  // Large layouts without a prediction: a rival assignment that passes the chi-square gate and
+  // whose chi2 is within this of the best's makes the frame ambiguous (no pose). Chi-square units,
+  // like the association's association_margin.
+  double ambiguity_margin = 9.0;
   std::string Validate() const;
 };
 
@@ -56,6 +60,10 @@ enum PoseGateBits : uint32_t {
   kPoseSolverFailed = 1u << 1,
   kPoseChi2 = 1u << 2,    // 6.4.1
   kPoseMotion = 1u << 3,  // 6.4.2
+  // Large layouts without a prediction: another assignment of the same detections to other cones
+  // also passed the 6.4.1 gate, its chi2 within ambiguity_margin of the best's (two self-consistent
+  // poses; the frame cannot tell which is right).
+  kPoseAmbiguous = 1u << 4,
 };
 
 struct ConePoseResult {
@@ -66,6 +74,9 @@ struct ConePoseResult {
   PnpResult pnp;                       // T_camera_model = T_camera_cones with its covariance
   double chi2 = 0.0, chi2_threshold = 0.0;
   int chi2_dof = 0;  // 2N - 6 over the N matched points
+  // The best rival assignment's chi2 (the pair-hypothesis search only; infinite: none passed 6.4.1).
+  double rival_chi2 = INFINITY;
+  std::vector<int> rival_cone_of_detection;
   // 6.4.2 against the prediction, set when there was one and the solver succeeded.
   bool motion_checked = false;
   double translation_change_m = 0.0, rotation_change_deg = 0.0;

@@ -23,6 +23,7 @@ struct ConeSearchConfig {
   size_t max_detections = 12;            // hypotheses from the largest this many detections
   size_t max_hypotheses = 4000;          // pair hypotheses scored per frame, at most
   size_t max_candidates = 6;             // assignments handed to the solver
+  size_t max_rivals = 12;                // assignments returned: beyond max_candidates checked as rivals only
   double spacing_tol_frac = 0.2;         // a pair fits when its spacing matches within this fraction ...
   double spacing_tol_m = 0.15;           // ... plus this
   double match_gate_height_frac = 0.35;  // a detection matches a projected cone within this fraction of its height
