@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <deque>
+#include <stdexcept>
 
 #include "pose_math/covariance.h"
 #include "pose_math/rotation.h"
@@ -140,6 +141,18 @@ pose_math::Pose ConeRigStart() {
   RigSimConfig sim;
   sim.duration_s = 0.0;
   return GenerateRig(sim).front().truth.T_cones_camera;
+}
+
+pose_ekf::EkfCore Tight(const pose_ekf::EkfConfig& c, double sigma_p_m) {
+  pose_ekf::EkfCore ekf{c};
+  if (!ekf.Initialize(Camera(0.0, ConeRigStart(), 0.001, 0.001)))
+    throw std::runtime_error("Tight: the filter refused its initial camera pose");
+  if (sigma_p_m > 0.0) {
+    pose_ekf::FilterState s = ekf.state();
+    s.P.block<3, 3>(pose_ekf::kP, pose_ekf::kP) = sigma_p_m * sigma_p_m * Eigen::Matrix3d::Identity();
+    ekf.Restore(s);
+  }
+  return ekf;
 }
 
 }  // namespace pose_ekf_test

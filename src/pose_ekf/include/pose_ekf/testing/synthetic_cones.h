@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "pose_ekf/core/cone_measurement.h"
+#include "pose_ekf/core/ekf_core.h"
 #include "pose_ekf/core/measurement_buffer.h"
 #include "pose_ekf/testing/synthetic_rig.h"
 
@@ -30,6 +31,9 @@ pose_ekf::ConeFrame ObserveCones(double stamp_s, const pose_math::Pose& T_cones_
 pose_ekf::EkfConfig ConeSimConfig();
 // The synthetic rig's first true pose: 2.6 m from the cones, looking at them.
 pose_math::Pose ConeRigStart();
+// A filter initialised at ConeRigStart with a tight prior (1 mm, 1 mrad): S is then about R per cone. With
+// sigma_p_m > 0 its position sigma is that on every axis instead (a filter after an outage).
+pose_ekf::EkfCore Tight(const pose_ekf::EkfConfig& c, double sigma_p_m = 0.0);
 
 struct ConeRunOptions {
   std::vector<pose_ekf::ConeGeometry> layout = DefaultCones();
