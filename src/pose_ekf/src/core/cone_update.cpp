@@ -185,8 +185,8 @@ double ConeFitCost(const StateVector& x0, const StateMatrix& P, const ConeGeomet
 
 // The iterated EKF update of one cone: the update from the prior x0 linearised at x_i takes the residual
 // z - h(x_i) - H_i (x0 - x_i) (x_i = x0 first: the EKF's (5.15)-(5.17)); each pass starts from the prior
-// again, and the covariance is the last linearisation's. *nis is the first pass's, at the prior, as the
-// gates' statistics are.
+// again, and the covariance is the last linearisation's. *nis is the first pass's: at the state this cone
+// starts from (the previous cones'), the statistic the frame's joint check sums.
 UpdateResult EkfCore::UpdateCone(const ConeObservation& o, const PinholeIntrinsics& K, double* nis) {
   constexpr double kConvergedPx = 0.1;
   const FilterState prior = s_;
