@@ -16,6 +16,7 @@
 #include <memory>
 #include <optional>
 #include <set>
+#include <utility>
 
 #include "cone_tracker/ConeTrackerConfig.h"
 #include "cone_tracker/node/layout.h"
@@ -59,7 +60,7 @@ class ConeTrackerNodelet : public nodelet::Nodelet {
   image_transport::Subscriber image_sub_;
   image_transport::Publisher debug_pub_;
   ros::Subscriber info_sub_, filter_pose_sub_;
-  std::deque<geometry_msgs::PoseWithCovarianceStampedConstPtr> filter_poses_;  // pose_ekf/pose, the last second
+  std::deque<std::pair<ros::Time, pose_math::Matrix6d>> filter_covs_;  // pose_ekf/pose's, the last second
   ros::Publisher pose_pub_, detections_pub_, observations_pub_, markers_pub_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
@@ -209,22 +210,20 @@ void ConeTrackerNodelet::OnFilterPose(const geometry_msgs::PoseWithCovarianceSta
                           filter_pose_sub_.getTopic().c_str(), why.c_str());
     return;
   }
-  if (!filter_poses_.empty() && msg->header.stamp < filter_poses_.back()->header.stamp) filter_poses_.clear();
-  filter_poses_.push_back(msg);
-  while (filter_poses_.size() > 1 && (msg->header.stamp - filter_poses_.front()->header.stamp).toSec() > 1.0)
-    filter_poses_.pop_front();
+  if (!filter_covs_.empty() && msg->header.stamp < filter_covs_.back().first) filter_covs_.clear();  // time jumped
+  filter_covs_.emplace_back(msg->header.stamp, cov);
+  while (filter_covs_.size() > 1 && (msg->header.stamp - filter_covs_.front().first).toSec() > 1.0)
+    filter_covs_.pop_front();
 }
 
 // The covariance of pose_ekf's estimate nearest the image stamp, if within prediction_max_age_s.
 std::optional<pose_math::Matrix6d> ConeTrackerNodelet::FilterCovariance(const ros::Time& stamp) const {
-  const geometry_msgs::PoseWithCovarianceStamped* best = nullptr;
-  for (const auto& m : filter_poses_)
-    if (!best || std::abs((m->header.stamp - stamp).toSec()) < std::abs((best->header.stamp - stamp).toSec()))
-      best = m.get();
-  if (!best || std::abs((best->header.stamp - stamp).toSec()) > adapter_->config().prediction_max_age_s)
-    return std::nullopt;
-  return pose_math::Matrix6d(
-      Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(best->pose.covariance.data()));
+  const auto age = [&](const ros::Time& t) { return std::abs((t - stamp).toSec()); };
+  const std::pair<ros::Time, pose_math::Matrix6d>* best = nullptr;
+  for (const auto& c : filter_covs_)
+    if (!best || age(c.first) < age(best->first)) best = &c;
+  if (!best || age(best->first) > adapter_->config().prediction_max_age_s) return std::nullopt;
+  return best->second;
 }
 
 void ConeTrackerNodelet::OnImage(const sensor_msgs::ImageConstPtr& msg) {

@@ -6,7 +6,6 @@
 #include <limits>
 
 #include <Eigen/Cholesky>
-#include <Eigen/Geometry>
 #include <boost/math/distributions/chi_squared.hpp>
 
 #include "pose_math/rotation.h"
@@ -47,9 +46,7 @@ bool ProjectCone(const ConePoints3d& pts, const Eigen::Matrix3d& R, const Eigen:
 
 // exp of the skew matrix of v: the rotation by |v| about v (R' = Exp(dtheta) R above).
 Eigen::Matrix3d Exp(const Eigen::Vector3d& v) {
-  const double a = v.norm();
-  if (a < 1e-12) return Eigen::Matrix3d::Identity() + Skew(v);
-  return Eigen::AngleAxisd(a, v / a).toRotationMatrix();
+  return pose_math::RotationFromQuat(pose_math::QuatFromRotationVector(v));
 }
 
 Vector6d Stack(const ConePoints2d& d) {
@@ -147,6 +144,7 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
   if (nc == 0 || nd == 0) return out;
   const Eigen::LDLT<Matrix6d> prior_ldlt(prior);
   if (prior_ldlt.info() != Eigen::Success || !(prior_ldlt.vectorD().minCoeff() > 0.0)) return out;
+  const Matrix6d prior_inv = prior_ldlt.solve(Matrix6d::Identity());
 
   std::vector<Matrix6d> noise_inv(nd);  // the detection's three points, block diagonal
   for (size_t d = 0; d < nd; ++d) {
@@ -175,7 +173,7 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
     };
     const auto cost_at = [&](const Vector6d& x) {
       if (!project(x)) return double(INFINITY);
-      double c = x.dot(prior_ldlt.solve(x));
+      double c = x.dot(prior_inv * x);
       for (size_t i = 0; i < pairs.size(); ++i) {
         const Vector6d r = Stack(dets[pairs[i].first]) - at[i].predicted_px;
         c += r.dot(noise_inv[pairs[i].first] * r);
@@ -189,7 +187,6 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
       f.x.setZero();
       f.cost = cost_at(f.x);
     }
-    const Matrix6d prior_inv = prior_ldlt.solve(Matrix6d::Identity());
     for (int it = 0; it < std::max(cfg.fit_iterations, 1) && std::isfinite(f.cost); ++it) {
       if (!project(f.x)) break;
       Matrix6d A = prior_inv;

@@ -16,8 +16,8 @@ int Find(std::vector<int>& parent, int i) {
   while (parent[i] != i) i = parent[i] = parent[parent[i]];
   return i;
 }
-// Extent across the axis (max - min of the perpendicular coordinate) of the
-// run ends whose along-axis coordinate t (from origin) lies in [t_lo, t_hi].
+}  // namespace
+
 double WidthAcross(const std::vector<Run>& runs, const Eigen::Vector2d& origin, const Eigen::Vector2d& axis,
                    double t_lo, double t_hi) {
   double lo = INFINITY, hi = -INFINITY;
@@ -31,8 +31,6 @@ double WidthAcross(const std::vector<Run>& runs, const Eigen::Vector2d& origin, 
     }
   return hi >= lo ? hi - lo + 1.0 : 0.0;
 }
-
-}  // namespace
 
 void Moments::Add(const Run& r) {
   const double len = r.x1 - r.x0 + 1.0, y = r.y;

@@ -79,19 +79,6 @@ bool OrangeBelowBase(const MaskView& mask, const Eigen::Vector2d& peak, const Ei
   return false;
 }
 
-// Half the silhouette's widest extent across the axis peak -> base.
-double HalfWidthAcross(const std::vector<Run>& runs, const Eigen::Vector2d& peak, const Eigen::Vector2d& base) {
-  const Eigen::Vector2d d = (base - peak).normalized();
-  double lo = INFINITY, hi = -INFINITY;
-  for (const Run& r : runs)
-    for (int x : {r.x0, r.x1}) {
-      const Eigen::Vector2d q = Eigen::Vector2d(x, r.y) - peak;
-      const double s = q.x() * d.y() - q.y() * d.x();
-      lo = std::min(lo, s), hi = std::max(hi, s);
-    }
-  return hi >= lo ? 0.5 * (hi - lo + 1.0) : 0.0;
-}
-
 }  // namespace
 
 std::string SegmenterConfig::Validate() const {
@@ -352,8 +339,8 @@ SegmentationResult Segmenter::Process(const ImageView& image, const CameraModel&
       det.failed_gates |= kGateShape;
     if (det.failed_gates == 0 &&
         SilhouetteRunsOutOfImage(RgbView{frame_rgb_, frame_w_, frame_h_, frame_step_}, det.peak_px, det.base_px,
-                                 HalfWidthAcross(d.runs, det.peak_px, det.base_px), c.cut_cone_contrast,
-                                 c.merge_band_gap_frac))
+                                 0.5 * WidthAcross(d.runs, det.peak_px, (det.base_px - det.peak_px).normalized()),
+                                 c.cut_cone_contrast, c.merge_band_gap_frac))
       det.failed_gates |= kGateBorder;  // the top of a cone whose collar runs out of the image
     if (undistorted) {
       // The mid-height point on the axis; it is not a measured point.

@@ -199,7 +199,7 @@ UpdateResult EkfCore::UpdateCone(const ConeObservation& o, const PinholeIntrinsi
   for (int pass = 0; pass <= config_.cone_update_iterations; ++pass) {
     if (!ProjectCone(x_lin, o.cone, K, &h, &H)) break;
     const ConeVector y = z - h - H * (prior.x - x_lin);
-    s_ = prior;
+    if (pass > 0) s_ = prior;  // the first pass starts there already
     if (Update<kConeDof>(y, H, R, pass == 0 ? nis : nullptr) != UpdateResult::kApplied) {
       s_ = pass == 0 ? prior : last;
       return pass == 0 ? UpdateResult::kNumericalFailure : UpdateResult::kApplied;

@@ -3,6 +3,7 @@
 // outlines rather than the pixel count. ROS-free.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -51,6 +52,10 @@ std::vector<Blob> FindBlobs(const MaskView& mask, int x0, int y0, int x1, int y1
 void ComputeProperties(Blob* blob);
 // Convex hull area of a set of runs, using pixel corners.
 double HullArea(const std::vector<Run>& runs);
+// Extent across the axis (unit; max - min of the perpendicular coordinate, + 1 px) of the run ends whose
+// along-axis coordinate from origin lies in [t_lo, t_hi]; 0 when none does.
+double WidthAcross(const std::vector<Run>& runs, const Eigen::Vector2d& origin, const Eigen::Vector2d& axis,
+                   double t_lo = -INFINITY, double t_hi = INFINITY);
 
 // Merges blobs that lie along one cone's axis (fragments separated by white
 // collars): a smaller blob joins a larger one when its centroid is within
