@@ -17,6 +17,8 @@ import sys
 import time
 import unittest
 
+import numpy as np
+
 import rospy
 from sensor_msgs.msg import Image
 
@@ -60,6 +62,7 @@ class SystemTest(unittest.TestCase):
         cls.figures["overlay_images"] = cls.overlay_images
         cls.figures.update(cls.recovery_figures())
         print("SYSTEM_FIGURES " + json.dumps(cls.figures, sort_keys=True))
+        cls.print_worst_overlay()
         sys.stdout.flush()
         if param("figures_file"):
             with open(param("figures_file"), "w") as f:
@@ -96,6 +99,24 @@ class SystemTest(unittest.TestCase):
         sub.unregister()
         print("system_test: %d of %d truth messages, EKF output up to %.2f s of the bag's %.2f s"
               % (recorder.count("rig_sim/ground_truth"), n_truth, last_ekf[0], end_s))
+
+    @classmethod
+    def print_worst_overlay(cls, n=5):
+        """The n images with the largest overlay error while the cones are tracked (tracking_overlay_rms_px), each with the EKF's nearest output stamps and the
+        last tracker pose before it: what to look at when an overlay tolerance fails."""
+        ev, rec = cls.ev, cls.rec
+        tracked = np.flatnonzero(evaluation.tracking(ev.overlay_t, rec.tracker.t, evaluation.TRACKING_WINDOW_S,
+                                                         evaluation.TRACKING_FUSE_S))
+        for i in tracked[np.argsort(ev.overlay_error_px[tracked])[::-1][:n]]:
+            t = ev.overlay_t[i]
+            k = np.searchsorted(rec.ekf.t, t)
+            before = rec.ekf.t[k - 1] if k > 0 else float("nan")
+            after = rec.ekf.t[k] if k < len(rec.ekf.t) else float("nan")
+            j = np.searchsorted(rec.tracker.t, t, side="right") - 1
+            last_trk = rec.tracker.t[j] if j >= 0 else float("nan")
+            print("system_test: overlay %.2f px at image %.3f s; EKF outputs at %.3f, %.3f s; last tracker pose %.3f s"
+                  % (ev.overlay_error_px[i], t, before, after, last_trk))
+        sys.stdout.flush()
 
     @classmethod
     def recovery_figures(cls):
