@@ -6,7 +6,7 @@ as private parameters. How the tolerances were derived: test/README.md (reposito
 Parameters (all optional; an absent tolerance is not asserted, but the figure is printed):
   ~max_orientation_rms_deg, ~max_position_rms_m, ~max_overlay_rms_px, ~max_overlay_median_px, ~max_overlay_p95_px
   (the whole run, IMU-only outages included), ~max_tracking_orientation_rms_deg, ~max_tracking_position_rms_m,
-  ~max_tracking_overlay_rms_px (while the cones are tracked: within 0.5 s of a tracker pose),
+  ~max_tracking_overlay_rms_px (while the cones are tracked: a tracker pose 0.1-0.5 s before),
   ~min_accepted_fraction, ~min_overlay_images (ar_overlay/image messages),
   ~min_outage_s: expect an outage at least this long, then after the poses return, over
   [t_back + ~recovery_start_s, + ~recovery_window_s]: ~max_recovery_orientation_deg, ~max_recovery_position_m.
