@@ -3,6 +3,7 @@
 // right cone ids from a cold start, on synthetic detections and rendered frames.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -84,6 +85,38 @@ TEST(LargeLayout, SearchIsBoundedAndRefusesNonsense) {
   std::mt19937 rng(3);
   const testing::SyntheticView v = testing::RandomView(cones, cam, 5, 5, 0.5, &rng);
   EXPECT_LE(SearchAssignments(v.detections, cones, cam, tiny).size(), 2u);
+}
+
+// The search hands the solver each candidate with the rough pose that matched it, the solver's
+// start instead of a linear solution. For the first candidate that is right wherever it matches (the
+// solver matches any missed cone again at its solution), that pose is typically near the true camera;
+// a candidate from a far pair of cones can be metres off and still converges (the cold-start tests).
+TEST(LargeLayout, ARightCandidateComesWithARoughPoseNearTheTruth) {
+  const std::vector<ConeModel> cones = testing::LargeLayout(30, 7);
+  const CameraModel cam = testing::LargeLayoutCamera();
+  std::mt19937 rng(17);
+  const int kViews = 30;
+  std::vector<double> err_m, err_deg;
+  for (int k = 0; k < kViews; ++k) {
+    const testing::SyntheticView v = testing::RandomView(cones, cam, 3, 5, 0.5, &rng);
+    for (const SearchCandidate& c : SearchAssignments(v.detections, cones, cam, ConeSearchConfig())) {
+      bool right = true;
+      for (size_t d = 0; d < c.assignment.size(); ++d)
+        right &= c.assignment[d] < 0 || c.assignment[d] == v.cone_of_detection[d];
+      if (!right) continue;
+      const Eigen::Matrix3d R = pose_math::RotationFromQuat(c.rough_T_camera_cones.q);
+      const Eigen::Matrix3d R_true = LookAt(v.eye_m, v.target_m).R_cones_camera.transpose();
+      err_m.push_back(PositionErrorM(c.rough_T_camera_cones, v.eye_m));
+      err_deg.push_back(Eigen::AngleAxisd(R * R_true.transpose()).angle() * 180.0 / M_PI);
+      break;
+    }
+  }
+  ASSERT_EQ(err_m.size(), size_t(kViews)) << "views without a right candidate";
+  std::sort(err_m.begin(), err_m.end()), std::sort(err_deg.begin(), err_deg.end());
+  std::printf("rough pose of the first right candidate, %d views: median %.3f m, %.2f deg; worst %.3f m, %.2f deg\n",
+              kViews, err_m[kViews / 2], err_deg[kViews / 2], err_m.back(), err_deg.back());
+  EXPECT_LT(err_m[kViews / 2], 0.5);
+  EXPECT_LT(err_deg[kViews / 2], 5.0);
 }
 
 // With a prediction, the per-cone association (pose/associate.h) takes as

@@ -250,13 +250,18 @@ ConePoseResult EstimateConePose(const std::vector<ConeDetection>& dets, const st
     out.pnp = Solve(dets, cones, a, cam, cfg, T_pred);
   } else {
     std::vector<Assignment> all;
+    std::vector<std::optional<pose_math::Pose>> starts;  // the search's rough pose per assignment
     const ConeSearchConfig search;
     if (dets.size() <= kExhaustiveMax && cones.size() <= kExhaustiveMax) {
       Assignment cur(dets.size(), -1);
       std::vector<bool> used(cones.size(), false);
       EnumerateFull(0, dets.size(), cones.size(), &cur, &used, &all);
+      starts.resize(all.size());
     } else {
-      all = SearchAssignments(dets, cones, cam, search);  // large layouts: bounded work
+      for (SearchCandidate& c : SearchAssignments(dets, cones, cam, search)) {  // large layouts: bounded work
+        all.push_back(std::move(c.assignment));
+        starts.emplace_back(c.rough_T_camera_cones);
+      }
       if (all.empty()) {
         out.rejected_by = kPoseTooFewCones;
         out.error = "no 3 detections fit the layout's spacing";
@@ -280,7 +285,10 @@ ConePoseResult EstimateConePose(const std::vector<ConeDetection>& dets, const st
       // Once a candidate fitted every detection well, the rest are only checked as its rivals; so
       // are those beyond the search's max_candidates.
       const bool rival_only = best_matched > 0 || (searched && k >= search.max_candidates);
-      PnpResult r = Solve(dets, cones, a, cam, cfg, std::nullopt, rival_only);
+      // From the search's rough pose (skips the linear start; a rival then costs two short refinements),
+      // from the linear start should that fail (the rough pose may put a cone behind the camera).
+      PnpResult r = Solve(dets, cones, a, cam, cfg, starts[k], rival_only);
+      if (!r.ok && starts[k]) r = Solve(dets, cones, a, cam, cfg, std::nullopt, rival_only);
       if (!r.ok) continue;
       if (searched && !rival_only) {  // the rough pose's gate may have missed a cone: match again at the solved pose
         const Assignment again = AssignByPrediction(dets, cones, cam, cfg, r.T_camera_model);

@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 #include <set>
 
 #include <Eigen/Eigenvalues>
+
+#include "pose_math/rotation.h"
 
 namespace cone_tracker {
 namespace {
@@ -16,6 +19,7 @@ Eigen::Vector3d Ray(const CameraModel& cam, const Eigen::Vector2d& uv) {
 
 struct Hypothesis {
   std::vector<int> assignment;
+  pose_math::Pose rough;  // T_camera_cones
   int matched = 0;
   double cost = 0.0;  // mean squared px of the matched peaks and bases
 };
@@ -50,57 +54,97 @@ bool UpInCamera(const std::vector<Eigen::Vector3d>& peak, const std::vector<Eige
   return false;
 }
 
-// Greedy matching of detections to the layout projected with a rough pose. The pair that made the
-// pose (detection i as cone a, j as b) is the hypothesis itself: matched as it is, whatever the rough
-// pose's error at its own cones (a near cone seen at the image's edge, its axis off the estimated
-// up, can be off its own projection by more than the gate).
+struct MatchPair {
+  double e;  // in units of the gate squared; -1 for the hypothesis's own pair
+  int d, c;
+};
+
+// For each (detection i, cone a), the bitset over (detection k, cone c) of spacing_fits(i, a, k, c),
+// filled when first asked for: O(D N) per (i, a), at most O(D^2 N^2) per frame, like the pair checks.
+// A pair hypothesis (i as a, j as b) can only be joined by a detection k as a cone c whose spacing
+// fits both of its cones: the AND of two rows lists them, so the rough match projects only those
+// cones instead of the whole layout (hundreds of pair hypotheses per frame with 30 cones).
+template <typename Fits>
+class SpacingTable {
+ public:
+  SpacingTable(size_t n_dets, size_t n_cones, Fits fits)
+      : nd_(n_dets), nc_(n_cones), words_((n_dets * n_cones + 63) / 64), fits_(fits), rows_(n_dets * n_cones) {}
+
+  // The (k, c) that fit both i as a and j as b, k not i or j and c not a or b, into *out (cleared).
+  void Joiners(size_t i, size_t a, size_t j, size_t b, std::vector<MatchPair>* out) {
+    out->clear();
+    const std::vector<uint64_t>&x = Row(i, a), &y = Row(j, b);
+    for (size_t w = 0; w < words_; ++w)
+      for (uint64_t m = x[w] & y[w]; m != 0; m &= m - 1) {
+        const size_t bit = w * 64 + size_t(__builtin_ctzll(m)), k = bit / nc_, c = bit % nc_;
+        if (k != i && k != j && c != a && c != b) out->push_back({0.0, int(k), int(c)});
+      }
+  }
+
+ private:
+  const std::vector<uint64_t>& Row(size_t i, size_t a) {
+    std::vector<uint64_t>& row = rows_[i * nc_ + a];
+    if (!row.empty()) return row;
+    row.assign(words_, 0);
+    for (size_t k = 0; k < nd_; ++k)
+      for (size_t c = 0; c < nc_; ++c)
+        if (k != i && c != a && fits_(i, a, k, c)) row[(k * nc_ + c) / 64] |= uint64_t(1) << ((k * nc_ + c) % 64);
+    return row;
+  }
+
+  size_t nd_, nc_, words_;
+  Fits fits_;
+  std::vector<std::vector<uint64_t>> rows_;
+};
+
+// Greedy matching of detections to the layout projected with a rough pose, over the candidate pairs
+// (detection, cone) in *pairs (their e is filled in here). The pair that made the pose (detection i
+// as cone a, j as b) is the hypothesis itself: matched as it is, whatever the rough pose's error at
+// its own cones (a near cone seen at the image's edge, its axis off the estimated up, can be off its
+// own projection by more than the gate).
 Hypothesis MatchAll(const std::vector<ConeDetection>& dets, const std::vector<double>& det_height_px,
                     const std::vector<ConeModel>& cones, const CameraModel& cam, const Eigen::Matrix3d& R,
-                    const Eigen::Vector3d& t, const ConeSearchConfig& cfg, size_t i, size_t a, size_t j, size_t b) {
-  struct Pair {
-    double e;
-    int d, c;
-  };
-  std::vector<Pair> pairs;
-  double own_e = 0.0;
-  for (size_t c = 0; c < cones.size(); ++c) {
+                    const Eigen::Vector3d& t, const ConeSearchConfig& cfg, size_t i, size_t a, size_t j, size_t b,
+                    std::vector<MatchPair>* pairs) {
+  // In units of the gate: a near cone's pixels are no worse matched than a far one's at the same angle.
+  const auto error = [&](size_t d, size_t c) {
     const Eigen::Vector3d pb = R * cones[c].base_m + t;
     const Eigen::Vector3d pp = R * (cones[c].base_m + Eigen::Vector3d(0, 0, cones[c].height_m)) + t;
-    if (!(pb.z() > 0.1 && pp.z() > 0.1)) continue;
+    if (!(pb.z() > 0.1 && pp.z() > 0.1)) return double(INFINITY);
     const Eigen::Vector2d base(cam.fx_px * pb.x() / pb.z() + cam.cx_px, cam.fy_px * pb.y() / pb.z() + cam.cy_px);
     const Eigen::Vector2d peak(cam.fx_px * pp.x() / pp.z() + cam.cx_px, cam.fy_px * pp.y() / pp.z() + cam.cy_px);
-    for (size_t d = 0; d < dets.size(); ++d) {
-      const double gate = std::max(cfg.match_gate_height_frac * det_height_px[d], cfg.match_gate_min_rad * cam.fx_px);
-      // In units of the gate: a near cone's pixels are no worse matched than a far one's at the same angle.
-      const double e = 0.5 *
-                       ((dets[d].peak_undist_px - peak).squaredNorm() + (dets[d].base_undist_px - base).squaredNorm()) /
-                       (gate * gate);
-      const bool own = (d == i && c == a) || (d == j && c == b);
-      if (own)
-        pairs.push_back({-1.0, int(d), int(c)}), own_e += e;  // sorted first
-      else if (e < 1.0)
-        pairs.push_back({e, int(d), int(c)});
-    }
-  }
-  std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) { return a.e < b.e; });
+    const double gate = std::max(cfg.match_gate_height_frac * det_height_px[d], cfg.match_gate_min_rad * cam.fx_px);
+    return 0.5 * ((dets[d].peak_undist_px - peak).squaredNorm() + (dets[d].base_undist_px - base).squaredNorm()) /
+           (gate * gate);
+  };
+  pairs->erase(std::remove_if(pairs->begin(), pairs->end(),
+                              [&](MatchPair& p) { return !((p.e = error(size_t(p.d), size_t(p.c))) < 1.0); }),
+               pairs->end());
   Hypothesis h;
+  if (pairs->empty()) {  // most hypotheses: no third match, no assignment to build
+    h.matched = 2;
+    return h;
+  }
+  const double own_e = error(i, a) + error(j, b);
+  pairs->push_back({-1.0, int(i), int(a)}), pairs->push_back({-1.0, int(j), int(b)});  // sorted first
+  std::sort(pairs->begin(), pairs->end(), [](const MatchPair& x, const MatchPair& y) { return x.e < y.e; });
   h.assignment.assign(dets.size(), -1);
   std::vector<bool> used(cones.size(), false);
-  for (const Pair& p : pairs) {
+  for (const MatchPair& p : *pairs) {
     if (h.assignment[size_t(p.d)] >= 0 || used[size_t(p.c)]) continue;
     h.assignment[size_t(p.d)] = p.c, used[size_t(p.c)] = true;
     ++h.matched, h.cost += std::max(p.e, 0.0);
   }
   h.cost += own_e;
-  if (h.matched > 0) h.cost /= h.matched;
+  h.cost /= h.matched;
   return h;
 }
 
 }  // namespace
 
-std::vector<std::vector<int>> SearchAssignments(const std::vector<ConeDetection>& dets,
-                                                const std::vector<ConeModel>& cones, const CameraModel& cam,
-                                                const ConeSearchConfig& cfg) {
+std::vector<SearchCandidate> SearchAssignments(const std::vector<ConeDetection>& dets,
+                                               const std::vector<ConeModel>& cones, const CameraModel& cam,
+                                               const ConeSearchConfig& cfg) {
   const size_t nd = dets.size(), nc = cones.size();
   std::vector<Eigen::Vector3d> peak(nd), base(nd);
   std::vector<double> height_px(nd);
@@ -126,6 +170,20 @@ std::vector<std::vector<int>> SearchAssignments(const std::vector<ConeDetection>
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return height_px[a] > height_px[b]; });
   order.resize(std::min(nd, cfg.max_detections));
 
+  // Detection i as cone a and k as c: their bases (from the detections' axes and the cones' heights)
+  // as far apart, vertically and horizontally, as the layout's, within the spacing tolerance.
+  const auto spacing_fits = [&](size_t i, size_t a, size_t k, size_t c) {
+    const Eigen::Vector3d d_cam = cones[c].height_m * base_unit[k] - cones[a].height_m * base_unit[i],
+                          d_world = cones[c].base_m - cones[a].base_m;
+    const double tol = cfg.spacing_tol_frac * d_world.norm() + cfg.spacing_tol_m, v_cam = d_cam.dot(up);
+    return std::abs(v_cam - d_world.z()) <= tol &&
+           std::abs((d_cam - v_cam * up).norm() - d_world.head<2>().norm()) <= tol;
+  };
+  // Joiners need every detection's base; without one (an axis along a viewing ray) every hypothesis
+  // is matched against the whole layout, as without the table.
+  const bool all_usable = std::all_of(usable.begin(), usable.end(), [](bool u) { return u; });
+  SpacingTable<decltype(spacing_fits)> table(nd, nc, spacing_fits);
+  std::vector<MatchPair> joiners;
   std::vector<Hypothesis> kept;
   std::set<std::vector<int>> seen;
   size_t scored = 0;
@@ -135,14 +193,21 @@ std::vector<std::vector<int>> SearchAssignments(const std::vector<ConeDetection>
       if (!usable[i] || !usable[j]) continue;
       for (size_t a = 0; a < nc && scored < cfg.max_hypotheses; ++a)
         for (size_t b = 0; b < nc && scored < cfg.max_hypotheses; ++b) {
-          if (a == b) continue;
+          if (a == b || !spacing_fits(i, a, j, b)) continue;
           const Eigen::Vector3d pi = cones[a].height_m * base_unit[i], pj = cones[b].height_m * base_unit[j];
           const Eigen::Vector3d d_cam = pj - pi, d_world = cones[b].base_m - cones[a].base_m;
-          const double tol = cfg.spacing_tol_frac * d_world.norm() + cfg.spacing_tol_m;
           const Eigen::Vector3d h_cam = d_cam - d_cam.dot(up) * up;
           const Eigen::Vector2d h_world = d_world.head<2>();
-          if (std::abs(d_cam.dot(up) - d_world.z()) > tol || std::abs(h_cam.norm() - h_world.norm()) > tol) continue;
           if (h_world.norm() < 0.2 || h_cam.norm() < 0.1) continue;  // no heading from a vertical pair
+          if (all_usable) {
+            table.Joiners(i, a, j, b, &joiners);
+            if (joiners.empty()) continue;
+          } else {
+            joiners.clear();
+            for (size_t k = 0; k < nd; ++k)
+              for (size_t c = 0; c < nc; ++c)
+                if (k != i && k != j && c != a && c != b) joiners.push_back({0.0, int(k), int(c)});
+          }
           // Rough pose: R maps z to up and the pair's horizontal direction onto its image in the camera.
           Eigen::Matrix3d W, C;
           const Eigen::Vector3d w1(h_world.x() / h_world.norm(), h_world.y() / h_world.norm(), 0.0);
@@ -152,17 +217,18 @@ std::vector<std::vector<int>> SearchAssignments(const std::vector<ConeDetection>
           const Eigen::Matrix3d R = C * W.transpose();
           const Eigen::Vector3d t = 0.5 * (pi + pj) - R * (0.5 * (cones[a].base_m + cones[b].base_m));
           ++scored;
-          Hypothesis h = MatchAll(dets, height_px, cones, cam, R, t, cfg, i, a, j, b);
+          Hypothesis h = MatchAll(dets, height_px, cones, cam, R, t, cfg, i, a, j, b, &joiners);
           if (h.matched < 3 || !seen.insert(h.assignment).second) continue;
+          h.rough = {pose_math::QuatFromRotation(R), t};
           kept.push_back(std::move(h));
         }
     }
   std::sort(kept.begin(), kept.end(), [](const Hypothesis& x, const Hypothesis& y) {
     return x.matched != y.matched ? x.matched > y.matched : x.cost < y.cost;
   });
-  std::vector<std::vector<int>> out;
+  std::vector<SearchCandidate> out;
   for (size_t k = 0; k < kept.size() && k < std::max(cfg.max_candidates, cfg.max_rivals); ++k)
-    out.push_back(kept[k].assignment);
+    out.push_back({std::move(kept[k].assignment), kept[k].rough});
   return out;
 }
 

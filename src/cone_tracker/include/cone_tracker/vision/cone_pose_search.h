@@ -5,11 +5,12 @@
 // up to the cone's height (the depth scales with the height). A pair of
 // detections hypothesised as a pair of layout cones must then have the
 // layout's spacing; the survivors give a rough pose each (up and the pair's
-// horizontal direction), which projects the whole layout and matches the
-// other detections. The best few assignments go to the full solver. Work per
-// frame: O(D^2 N^2) distance checks for D detections (the largest
-// kSearchMaxDetections) and N cones, plus O(N D) per surviving hypothesis.
-// ROS-free.
+// horizontal direction), which projects the cones whose spacing to both of the
+// pair's fits some other detection and matches those detections. The best few
+// assignments go to the full solver, each with its rough pose as the start.
+// Work per frame: O(D^2 N^2) distance checks for D detections (the largest
+// max_detections) and N cones, plus a projection per fitting (detection, cone)
+// of each surviving hypothesis. ROS-free.
 #pragma once
 
 #include <cstddef>
@@ -33,10 +34,17 @@ struct ConeSearchConfig {
   double max_consistent_rms_px = 3.0;
 };
 
-// Candidate assignments (model cone per detection, -1 none), each with at least
-// three matches, best first (most matches, then the lowest rough residual).
-std::vector<std::vector<int>> SearchAssignments(const std::vector<ConeDetection>& detections,
-                                                const std::vector<ConeModel>& cones, const CameraModel& camera,
-                                                const ConeSearchConfig& config);
+// A candidate assignment (model cone per detection, -1 none) and the rough pose
+// that matched it: a start for the solver near the assignment's own optimum.
+struct SearchCandidate {
+  std::vector<int> assignment;
+  pose_math::Pose rough_T_camera_cones;
+};
+
+// Candidates with at least three matches each, best first (most matches, then
+// the lowest rough residual).
+std::vector<SearchCandidate> SearchAssignments(const std::vector<ConeDetection>& detections,
+                                               const std::vector<ConeModel>& cones, const CameraModel& camera,
+                                               const ConeSearchConfig& config);
 
 }  // namespace cone_tracker
