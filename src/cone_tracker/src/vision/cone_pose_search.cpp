@@ -171,13 +171,26 @@ std::vector<SearchCandidate> SearchAssignments(const std::vector<ConeDetection>&
   order.resize(std::min(nd, cfg.max_detections));
 
   // Detection i as cone a and k as c: their bases (from the detections' axes and the cones' heights)
-  // as far apart, vertically and horizontally, as the layout's, within the spacing tolerance.
+  // as far apart, vertically and horizontally, as the layout's, within the spacing tolerance. Asked
+  // thousands of times per frame: the bases in the camera and the layout's spacings are tabled first.
+  std::vector<Eigen::Vector3d> base_cam(nd * nc);  // detection d as cone c
+  for (size_t d = 0; d < nd; ++d)
+    for (size_t c = 0; c < nc; ++c) base_cam[d * nc + c] = cones[c].height_m * base_unit[d];
+  struct Spacing {
+    double tol, dz, horizontal;
+  };
+  std::vector<Spacing> spacing(nc * nc);  // from cone a to cone c
+  for (size_t a = 0; a < nc; ++a)
+    for (size_t c = 0; c < nc; ++c) {
+      const Eigen::Vector3d d_world = cones[c].base_m - cones[a].base_m;
+      spacing[a * nc + c] = {cfg.spacing_tol_frac * d_world.norm() + cfg.spacing_tol_m, d_world.z(),
+                             d_world.head<2>().norm()};
+    }
   const auto spacing_fits = [&](size_t i, size_t a, size_t k, size_t c) {
-    const Eigen::Vector3d d_cam = cones[c].height_m * base_unit[k] - cones[a].height_m * base_unit[i],
-                          d_world = cones[c].base_m - cones[a].base_m;
-    const double tol = cfg.spacing_tol_frac * d_world.norm() + cfg.spacing_tol_m, v_cam = d_cam.dot(up);
-    return std::abs(v_cam - d_world.z()) <= tol &&
-           std::abs((d_cam - v_cam * up).norm() - d_world.head<2>().norm()) <= tol;
+    const Spacing& w = spacing[a * nc + c];
+    const Eigen::Vector3d d_cam = base_cam[k * nc + c] - base_cam[i * nc + a];
+    const double v_cam = d_cam.dot(up);
+    return std::abs(v_cam - w.dz) <= w.tol && std::abs((d_cam - v_cam * up).norm() - w.horizontal) <= w.tol;
   };
   // Joiners need every detection's base; without one (an axis along a viewing ray) every hypothesis
   // is matched against the whole layout, as without the table.
