@@ -1,5 +1,6 @@
 // Tracker time per 1024x768 frame (segmentation + correspondence + pose, no
-// prediction: the cold start, the worst case) with a 30-cone layout and 3-5
+// prediction: the cold start, the worst case; and tracked: segmentation, the
+// pose from the prediction and the per-cone association) with a 30-cone layout and 3-5
 // cones in view, against the baseline of the 3-cone layout's frames in the same
 // process; also the pose step alone, cold and with a prediction. Single-threaded.
 // Prints BENCH lines (DESIGN.md).
@@ -38,6 +39,7 @@ struct Set {
   std::vector<SimFrame> frames;
   std::vector<ConeModel> models;
   std::vector<double> frame_ms, pose_cold_ms, search_ms, pose_pred_ms, assoc_tight_ms, assoc_loose_ms;
+  std::vector<double> tracked_frame_ms;  // segmentation + predicted pose + per-cone association (tracked)
   int solved = 0, runs = 0;
 };
 
@@ -94,6 +96,7 @@ void RunSet(Set* s, int iterations) {
     // off), and re-acquiring (2 m off, the filter's sigma 2.5 m after an outage).
     s->assoc_tight_ms.push_back(
         TimeAssociation(r.cones, s->models, f.camera, truth, 0.05, Eigen::Vector3d(0.03, 0.04, 0)));
+    s->tracked_frame_ms.push_back(Ms(t0, t1) + s->pose_pred_ms.back() + s->assoc_tight_ms.back());
     s->assoc_loose_ms.push_back(
         TimeAssociation(r.cones, s->models, f.camera, truth, 2.5, Eigen::Vector3d(1.6, -1.2, 0.3)));
     s->solved += cold.ok, ++s->runs;
@@ -143,6 +146,8 @@ int main() {
       "30-cone layout: frame median %.3f ms (pose %.3f ms cold, %.3f ms predicted), %d/%d frames pass the gates\n",
       big_ms, Median(big.pose_cold_ms), Median(big.pose_pred_ms), big.solved, big.runs);
   std::printf("30-cone layout: of the cold pose, the assignment search %.3f ms (median)\n", Median(big.search_ms));
+  std::printf("30-cone layout: tracked frame median %.3f ms (segmentation, predicted pose, per-cone association)\n",
+              Median(big.tracked_frame_ms));
   std::printf(
       "30-cone layout: per-cone association median %.3f ms tracked (5 cm off, sigma 5 cm), %.3f ms "
       "re-acquiring (2 m off, sigma 2.5 m); max %.3f, %.3f ms\n",
@@ -155,6 +160,7 @@ int main() {
               Median(big.pose_cold_ms) / Median(small.pose_cold_ms));
   std::printf("BENCH cone_tracker.large_layout_frame_median %.3f ms\n", big_ms);
   std::printf("BENCH cone_tracker.three_cone_frame_median %.3f ms\n", small_ms);
+  std::printf("BENCH cone_tracker.large_layout_tracked_frame_median %.3f ms\n", Median(big.tracked_frame_ms));
   std::printf("BENCH cone_tracker.large_layout_frame_ratio %.3f ratio\n", big_ms / small_ms);
   std::printf("BENCH cone_tracker.large_layout_pose_cold_median %.3f ms\n", Median(big.pose_cold_ms));
   std::printf("BENCH cone_tracker.three_cone_pose_cold_median %.3f ms\n", Median(small.pose_cold_ms));
