@@ -102,8 +102,9 @@ class SystemTest(unittest.TestCase):
 
     @classmethod
     def print_worst_overlay(cls, n=5):
-        """The n images with the largest overlay error while the cones are tracked (tracking_overlay_rms_px), each with the EKF's nearest output stamps and the
-        last tracker pose before it: what to look at when an overlay tolerance fails."""
+        """The n images with the largest overlay error while the cones are tracked (tracking_overlay_rms_px),
+        each with the EKF's nearest output stamps and the last tracker pose before it: what to look at when
+        an overlay tolerance fails."""
         ev, rec = cls.ev, cls.rec
         tracked = np.flatnonzero(evaluation.tracking(ev.overlay_t, rec.tracker.t, evaluation.TRACKING_WINDOW_S,
                                                          evaluation.TRACKING_FUSE_S))
