@@ -207,11 +207,11 @@ std::vector<SearchCandidate> SearchAssignments(const std::vector<ConeDetection>&
       for (size_t a = 0; a < nc && scored < cfg.max_hypotheses; ++a)
         for (size_t b = 0; b < nc && scored < cfg.max_hypotheses; ++b) {
           if (a == b || !spacing_fits(i, a, j, b)) continue;
-          const Eigen::Vector3d pi = cones[a].height_m * base_unit[i], pj = cones[b].height_m * base_unit[j];
-          const Eigen::Vector3d d_cam = pj - pi, d_world = cones[b].base_m - cones[a].base_m;
-          const Eigen::Vector3d h_cam = d_cam - d_cam.dot(up) * up;
-          const Eigen::Vector2d h_world = d_world.head<2>();
-          if (h_world.norm() < 0.2 || h_cam.norm() < 0.1) continue;  // no heading from a vertical pair
+          const Eigen::Vector3d &pi = base_cam[i * nc + a], &pj = base_cam[j * nc + b];
+          const Eigen::Vector3d d_cam = pj - pi, h_cam = d_cam - d_cam.dot(up) * up;
+          const Eigen::Vector2d h_world = (cones[b].base_m - cones[a].base_m).head<2>();
+          const double h_world_m = spacing[a * nc + b].horizontal;
+          if (h_world_m < 0.2 || h_cam.norm() < 0.1) continue;  // no heading from a vertical pair
           if (all_usable) {
             table.Joiners(i, a, j, b, &joiners);
             if (joiners.empty()) continue;
@@ -223,7 +223,7 @@ std::vector<SearchCandidate> SearchAssignments(const std::vector<ConeDetection>&
           }
           // Rough pose: R maps z to up and the pair's horizontal direction onto its image in the camera.
           Eigen::Matrix3d W, C;
-          const Eigen::Vector3d w1(h_world.x() / h_world.norm(), h_world.y() / h_world.norm(), 0.0);
+          const Eigen::Vector3d w1(h_world.x() / h_world_m, h_world.y() / h_world_m, 0.0);
           const Eigen::Vector3d c1 = h_cam.normalized();
           W << w1, Eigen::Vector3d::UnitZ().cross(w1), Eigen::Vector3d::UnitZ();
           C << c1, up.cross(c1), up;
