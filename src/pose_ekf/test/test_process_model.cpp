@@ -38,6 +38,21 @@ INSTANTIATE_TEST_SUITE_P(Integrations, TransitionJacobianTest,
                                            JacobianCase{QuatIntegration::kExact, 16, 20.0, 0.05},
                                            JacobianCase{QuatIntegration::kExact, 19, 1e-7, 0.01}));  // series branch
 
+// The banded product against the dense one, for every state size, both integrations, with damping.
+TEST(ProcessModel, PropagateCovarianceEqualsTheDenseProduct) {
+  for (int n : {kBaseStates, kBaseStates + 3, kMaxStates})
+    for (QuatIntegration integration : {QuatIntegration::kFirstOrder, QuatIntegration::kExact})
+      for (double tau : {0.0, 0.4}) {
+        const StateVector x = RandomState(n, unsigned(n), 3.0);
+        const StateMatrix F = TransitionJacobian(x, 0.01, integration, tau, tau);
+        const Eigen::MatrixXd A = Eigen::MatrixXd::Random(n, n);
+        const StateMatrix P = A * A.transpose() + Eigen::MatrixXd::Identity(n, n);
+        const Eigen::MatrixXd dense = F * P * F.transpose();
+        EXPECT_LT((PropagateCovariance(F, P) - dense).cwiseAbs().maxCoeff(), 1e-12 * dense.cwiseAbs().maxCoeff())
+            << "n " << n << ", tau " << tau;
+      }
+}
+
 TEST(ProcessModel, QuaternionMatchesPoseMathIntegrators) {
   const StateVector x = RandomState(16, 7, 4.0);
   const Eigen::Vector4d q = x.segment<4>(kQ);

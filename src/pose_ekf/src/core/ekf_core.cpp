@@ -117,7 +117,7 @@ void EkfCore::PredictStep(double dt) {
   const StateMatrix F = TransitionJacobian(s_.x, dt, config_.quat_integration, tau_v, tau_a);  // (5.22)
   s_.x = PropagateState(s_.x, dt, config_.quat_integration, tau_v, tau_a);                     // (5.20)
   NormalizeQuat(s_.x);
-  s_.P = F * s_.P * F.transpose() + ProcessNoise(config_, static_cast<int>(s_.x.size()), dt);  // (5.14)
+  s_.P = PropagateCovariance(F, s_.P) + ProcessNoise(config_, static_cast<int>(s_.x.size()), dt);  // (5.14)
   pose_math::SymmetrizeCovariance(s_.P);
 }
 

@@ -101,6 +101,19 @@ StateMatrix TransitionJacobian(const StateVector& x, double dt, QuatIntegration 
   return F;
 }
 
+StateMatrix PropagateCovariance(const StateMatrix& F, const StateMatrix& P) {
+  constexpr int kQW = kP - kQ, kPVA = kB - kP;  // q and ω; p, v and a
+  const auto Fq = F.block<4, kQW>(kQ, kQ);
+  const auto Fpva = F.block<kPVA, kPVA>(kP, kP);
+  StateMatrix M = P;  // F P: only the rows of q and of p, v, a change
+  M.middleRows<4>(kQ) = Fq * P.topRows<kQW>();
+  M.middleRows<kPVA>(kP) = Fpva * P.middleRows<kPVA>(kP);
+  StateMatrix out = M;  // (F P) Fᵀ: the same columns
+  out.middleCols<4>(kQ) = M.leftCols<kQW>() * Fq.transpose();
+  out.middleCols<kPVA>(kP) = M.middleCols<kPVA>(kP) * Fpva.transpose();
+  return out;
+}
+
 StateMatrix ProcessNoise(const EkfConfig& c, int n, double dt) {
   StateVector d(n);
   d.segment<4>(kQ).setConstant(c.sigma_q_per_sqrt_s * c.sigma_q_per_sqrt_s);

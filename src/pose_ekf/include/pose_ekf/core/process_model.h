@@ -41,6 +41,12 @@ StateVector PropagateState(const StateVector& x, double dt_s, QuatIntegration in
 StateMatrix TransitionJacobian(const StateVector& x, double dt_s, QuatIntegration integration,
                                double velocity_time_constant_s = 0.0, double accel_time_constant_s = 0.0);
 
+// F P Fᵀ for an F of TransitionJacobian's shape: identity but for the rows of q
+// (which read q and ω) and of p, v, a (which read p, v, a). It touches only those
+// bands, ~10 times fewer flops than the dense product at 22 states; equal to it
+// (test_process_model.cpp).
+StateMatrix PropagateCovariance(const StateMatrix& F, const StateMatrix& P);
+
 // Linear time-varying process noise Q = dt diag(σ²) (5.23); the bias blocks follow
 // c.estimate_gyro_bias and c.estimate_accel_bias (n must be StateSize(c)).
 StateMatrix ProcessNoise(const EkfConfig& c, int n, double dt_s);
