@@ -96,6 +96,15 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
                                  const std::vector<std::array<Eigen::Matrix2d, 3>>& point_cov,
                                  const std::vector<ConePoints3d>& model_cones, const CameraModel& cam,
                                  const pose_math::Pose& T_pred, const AssociationConfig& cfg) {
+  return AssociateCones(
+      dets, point_cov, model_cones.size(), [&](size_t c, const Eigen::Vector3d&) { return model_cones[c]; }, cam,
+      T_pred, cfg);
+}
+
+AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
+                                 const std::vector<std::array<Eigen::Matrix2d, 3>>& point_cov, size_t num_cones,
+                                 const ModelPointsAt& model, const CameraModel& cam, const pose_math::Pose& T_pred,
+                                 const AssociationConfig& cfg) {
   AssociationResult out;
   const size_t nd = dets.size();
   out.cone_of_detection.assign(nd, -1);
@@ -110,12 +119,12 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
         Eigen::Vector3d::Constant(cfg.prediction_sigma_m * cfg.prediction_sigma_m);
   }
   std::vector<Eigen::Vector4d> boxes;  // predicted silhouette: u_min, v_min, u_max, v_max
-  for (size_t c = 0; c < model_cones.size(); ++c) {
+  for (size_t c = 0; c < num_cones; ++c) {
     ConeCandidate k;
     k.cone = int(c);
-    if (!ProjectCone(model_cones[c], R, eye, cam, cfg, &k)) continue;
+    const ConePoints3d p = model(c, eye);
+    if (!ProjectCone(p, R, eye, cam, cfg, &k)) continue;
     out.candidates.push_back(k);
-    const ConePoints3d& p = model_cones[c];
     // The base point is the base radius off the axis (3.18): the half-width.
     const double half_px = cam.fx_px * (p[2] - p[0]).head<2>().norm() / (R * (p[2] - eye)).z();
     const Eigen::Vector2d peak = k.predicted_px.head<2>(), base = k.predicted_px.tail<2>();
@@ -151,7 +160,6 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
     noise_inv[d].setZero();
     for (int i = 0; i < 3; ++i) noise_inv[d].block<2, 2>(2 * i, 2 * i) = point_cov[d][size_t(i)].inverse();
   }
-  const std::vector<ConePoints3d>& model = model_cones;
   // The fit of matched (detection, candidate) pairs: minimise over the pose shift x = (rotation in the
   // camera frame, camera position) J(x) = x' P^-1 x + sum_i r_i(x)' N_i^-1 r_i(x), Gauss-Newton from
   // `start`, every step reprojected (with the prediction's Jacobian at x = 0 one step is the first-order
@@ -167,7 +175,7 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
       const Eigen::Matrix3d Rx = Exp(x.head<3>()) * R;
       const Eigen::Vector3d ex = eye + x.tail<3>();
       for (size_t i = 0; i < pairs.size(); ++i)
-        if (!ProjectCone(model[size_t(out.candidates[pairs[i].second].cone)], Rx, ex, cam, cfg, &at[i], INFINITY))
+        if (!ProjectCone(model(size_t(out.candidates[pairs[i].second].cone), ex), Rx, ex, cam, cfg, &at[i], INFINITY))
           return false;
       return true;
     };
