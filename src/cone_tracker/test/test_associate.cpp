@@ -114,7 +114,7 @@ TEST(Associate, EveryLayoutConeAloneGetsItsId) {
       ASSERT_EQ(a.cone_of_detection.size(), 1u);
       EXPECT_EQ(a.cone_of_detection[0], id);
       EXPECT_EQ(a.candidates.size(), 3u);
-      EXPECT_LT(a.d2[0], 22.46);  // chi2(6) at 0.999
+      EXPECT_LT(a.d2[0], 18.47);  // chi2(4) at 0.999: the peak and the base
     }
 }
 

@@ -148,17 +148,17 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
   }
   out.candidates = apart;
   const size_t nc = out.candidates.size();
-  const double gate = boost::math::quantile(boost::math::chi_squared(6), cfg.gate_probability);
+  const double gate = boost::math::quantile(boost::math::chi_squared(4), cfg.gate_probability);  // peak, base
   out.cost = gate * double(nd);
   if (nc == 0 || nd == 0) return out;
   const Eigen::LDLT<Matrix6d> prior_ldlt(prior);
   if (prior_ldlt.info() != Eigen::Success || !(prior_ldlt.vectorD().minCoeff() > 0.0)) return out;
   const Matrix6d prior_inv = prior_ldlt.solve(Matrix6d::Identity());
 
-  std::vector<Matrix6d> noise_inv(nd);  // the detection's three points, block diagonal
+  std::vector<Matrix6d> noise_inv(nd);  // the detection's peak and base, block diagonal; the mid weighs nothing
   for (size_t d = 0; d < nd; ++d) {
     noise_inv[d].setZero();
-    for (int i = 0; i < 3; ++i) noise_inv[d].block<2, 2>(2 * i, 2 * i) = point_cov[d][size_t(i)].inverse();
+    for (int i : {0, 2}) noise_inv[d].block<2, 2>(2 * i, 2 * i) = point_cov[d][size_t(i)].inverse();
   }
   // The fit of matched (detection, candidate) pairs: minimise over the pose shift x = (rotation in the
   // camera frame, camera position) J(x) = x' P^-1 x + sum_i r_i(x)' N_i^-1 r_i(x), Gauss-Newton from

@@ -13,6 +13,10 @@
 // height or spacing costs a lot, and a prediction metres off (pose_ekf's after
 // an outage, with its covariance) is judged at the pose the pair puts the
 // camera, not by the projection's first-order change at the prediction.
+// Only the peak and the base are scored: every detector here sets the mid to
+// the image midpoint of its peak and base, which is not where the 3-D
+// midpoint projects (1.4-2.1 px off at 512x384, more on a near cone), and
+// carries nothing the two do not (pose_ekf fuses the same two points).
 #pragma once
 
 #include <array>
@@ -39,7 +43,7 @@ struct AssociationConfig {
   // `cones`), e.g. pose_ekf's; when set it replaces the two sigmas above.
   std::optional<Eigen::Matrix<double, 6, 6>> prediction_cov;
   int fit_iterations = 8;           // Gauss-Newton steps of an assignment's fit (0: first order at the prediction)
-  double gate_probability = 0.999;  // a pair fits when chi2(6 dof) of its three points is below this quantile
+  double gate_probability = 0.999;  // a pair fits when chi2(4 dof) of its peak and base is below this quantile
   double ambiguity_margin = 9.0;    // a detection keeps its cone only if every other cone for it costs this much more
   double outside_frac =
       0.5;  // a cone predicted farther outside the image than this fraction of its size is no candidate
@@ -56,7 +60,7 @@ struct ConeCandidate {
 
 struct AssociationResult {
   std::vector<int> cone_of_detection;  // layout index per detection, -1: none
-  std::vector<double> d2;  // per detection: chi2 of its three points against its cone's prediction (NaN: none)
+  std::vector<double> d2;  // per detection: chi2 of its peak and base against its cone's prediction (NaN: none)
   std::vector<ConeCandidate> candidates;  // layout cones in front of the camera, near the image, apart
   std::vector<int> overlapping;           // layout cones left out: predicted to overlap another in the image
   int ambiguous = 0;                      // detections left out: another cone fitted them nearly as well
