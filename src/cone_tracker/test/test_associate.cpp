@@ -193,6 +193,22 @@ TEST(Associate, APredictionAMetreOffAfterAnOutageStillPairsTwoCones) {
   EXPECT_NE(Associate(dets, layout, pred, cfg).cone_of_detection, (std::vector<int>{0, 2}));
 }
 
+// The detectors set a cone's mid to the image midpoint of its peak and base. Seen from near and above, that
+// is pixels from where the 3-D midpoint projects; scored, it alone would put the right cone past the gate.
+TEST(Associate, ANearConeWhoseMidIsTheImageMidpointKeepsItsId) {
+  const auto layout = Asymmetric();
+  const Eigen::Vector3d eye(1.3, -0.9, 1.6), target = layout[0].base_m + Eigen::Vector3d(0, 0, 0.3);
+  std::vector<ConeDetection> dets = Detect(layout, {0}, eye, target);
+  const Eigen::Vector2d image_mid = 0.5 * (dets[0].peak_undist_px + dets[0].base_undist_px);
+  const double mid_off_px = (image_mid - dets[0].mid_undist_px).norm();
+  ASSERT_GT(mid_off_px * mid_off_px, 18.47) << "not a case where the mid matters";  // 1 px sigma: past chi2(4)
+  dets[0].mid_undist_px = image_mid;
+  const pose_math::Pose truth = LookAt(eye, target);
+  const AssociationResult a = Associate(dets, layout, truth);
+  EXPECT_EQ(a.cone_of_detection, (std::vector<int>{0}));
+  EXPECT_LT(a.d2[0], 2.0);  // the peak and base are 0.3 px off
+}
+
 TEST(Associate, ConesBehindTheCameraOrFarOutsideAreNoCandidates) {
   const auto layout = Asymmetric();
   // Looking away from the layout: every cone is behind the camera.
