@@ -6,10 +6,11 @@ asserts, for the first outage (site_reacquire.py says how each figure is measure
 
 - the bag holds the case: no cone in view for at least ~min_outage_s, then two cones (resolved,
   ~min_px_full tall at full resolution) before any third one;
-- the filter's first camera update after the outage comes from two cones: a cone_tracker/observations
-  frame (not a 3-cone pose) with two cones, the right ids, before the first frame with three, at most
-  ~max_latency_s after the first two-cone frame (it may come a frame before it: the second cone already
-  detected, not yet ~min_px_full tall);
+- the filter's first camera update after the outage comes from the cones of the two-cone stretch: a
+  cone_tracker/observations frame (not a 3-cone pose) with two cones, or with one that pose_ekf's ambiguity
+  test let through (a frame before its pair is resolved), the right ids, before the first frame with three,
+  at most ~max_latency_s after the first two-cone frame (it may come a frame before it: the second cone
+  already detected, not yet ~min_px_full tall);
 - the EKF is then back on the truth: the largest position error 0.5-1.5 s after that update at most
   ~max_after_position_m, orientation ~max_after_orientation_deg; at the two-cone span's end at most
   ~max_span_end_position_m.
@@ -77,7 +78,8 @@ class SiteReacquireTest(unittest.TestCase):
         r = self.r
         self.assertIsNotNone(r)
         self.assertTrue(r.fused_t == r.fused_t, "nothing fused after the outage: " + self.line())
-        self.assertEqual(len(r.fused_ids), 2, "the first update after the outage is not of two cones: " + self.line())
+        self.assertIn(len(r.fused_ids), (1, 2), "the first update after the outage is not of the two cones: "
+                      + self.line())
         self.assertTrue(r.three_t != r.three_t or r.fused_t < r.three_t,
                         "nothing fused until three cones were in view: " + self.line())
         self.assertEqual(r.fused_kind, "observations", self.line())
