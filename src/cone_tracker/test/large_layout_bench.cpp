@@ -56,10 +56,6 @@ double TimeAssociation(const std::vector<ConeDetection>& dets, const std::vector
   }
   pose_math::Pose pred = T_camera_cones;
   pred.t -= pose_math::RotationFromQuat(pred.q) * eye_offset_m;  // the camera moved by eye_offset_m
-  const ModelPointsAt model = [&](size_t c, const Eigen::Vector3d& eye) {
-    const auto p = CorrectedModelPoints(models[c], eye);
-    return ConePoints3d{p[0], p[1], p[2]};
-  };
   AssociationConfig a;
   Eigen::Matrix<double, 6, 6> P = Eigen::Matrix<double, 6, 6>::Zero();
   P.diagonal() << Eigen::Vector3d::Constant(std::pow(2.0 * M_PI / 180.0, 2)),
@@ -67,7 +63,7 @@ double TimeAssociation(const std::vector<ConeDetection>& dets, const std::vector
   a.prediction_cov = P;
   CameraModel pinhole = cam;
   pinhole.distortion.clear();
-  AssociateCones(points, cov, models.size(), model, pinhole, pred, a);
+  AssociateCones(points, cov, models.size(), LayoutSeenFrom(models), pinhole, pred, a);
   return Ms(t0, Clock::now());
 }
 

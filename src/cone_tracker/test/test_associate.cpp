@@ -52,12 +52,6 @@ pose_math::Pose LookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target
 
 const Eigen::Vector3d kEye(1.0, 4.0, 1.3), kTarget(0.0, 0.0, 0.3);
 
-std::vector<ConePoints3d> ModelPoints(const std::vector<ConeModel>& layout, const Eigen::Vector3d& eye) {
-  std::vector<ConePoints3d> out;
-  for (const ConeModel& c : layout) out.push_back(CorrectedModelPoints(c, eye));
-  return out;
-}
-
 Eigen::Vector2d Project(const pose_math::Pose& T, const Eigen::Vector3d& p_cones) {
   const Eigen::Vector3d p = pose_math::Transform(T, p_cones);
   const CameraModel c = Camera();
@@ -95,16 +89,17 @@ pose_math::Pose Predicted(const Eigen::Vector3d& eye_offset = Eigen::Vector3d(0.
   return T;
 }
 
+// model: the layout's points seen from any eye (LayoutSeenFrom), unless a test gives another.
 AssociationResult Associate(const std::vector<ConeDetection>& dets, const std::vector<ConeModel>& layout,
-                            const pose_math::Pose& T_pred, const AssociationConfig& cfg = AssociationConfig()) {
+                            const pose_math::Pose& T_pred, const AssociationConfig& cfg = AssociationConfig(),
+                            const ModelPointsAt& model = nullptr) {
   std::vector<ConePoints2d> pts;
   std::vector<std::array<Eigen::Matrix2d, 3>> cov;
   for (const ConeDetection& d : dets) {
     pts.push_back({d.peak_undist_px, d.mid_undist_px, d.base_undist_px});
     cov.push_back(PointCovariances(pts.back(), d.blob.area, cfg.sigma_px));
   }
-  const Eigen::Vector3d eye = -(pose_math::RotationFromQuat(T_pred.q).transpose() * T_pred.t);
-  return AssociateCones(pts, cov, ModelPoints(layout, eye), Camera(), T_pred, cfg);
+  return AssociateCones(pts, cov, layout.size(), model ? model : LayoutSeenFrom(layout), Camera(), T_pred, cfg);
 }
 
 TEST(Associate, EveryLayoutConeAloneGetsItsId) {
@@ -177,20 +172,14 @@ TEST(Associate, APredictionAMetreOffAfterAnOutageStillPairsTwoCones) {
   cfg.prediction_cov = Eigen::Matrix<double, 6, 6>::Zero();
   cfg.prediction_cov->diagonal() << Eigen::Vector3d::Constant(std::pow(2.0 * M_PI / 180.0, 2)),
       Eigen::Vector3d::Constant(2.0 * 2.0);
-  std::vector<ConePoints2d> pts;
-  std::vector<std::array<Eigen::Matrix2d, 3>> cov;
-  for (const ConeDetection& d : dets) {
-    pts.push_back({d.peak_undist_px, d.mid_undist_px, d.base_undist_px});
-    cov.push_back(PointCovariances(pts.back(), d.blob.area, cfg.sigma_px));
-  }
-  const ModelPointsAt seen_from = [&](size_t c, const Eigen::Vector3d& at) {
-    return CorrectedModelPoints(layout[c], at);
-  };
-  const AssociationResult a = AssociateCones(pts, cov, layout.size(), seen_from, Camera(), pred, cfg);
+  const AssociationResult a = Associate(dets, layout, pred, cfg);
   EXPECT_EQ(a.cone_of_detection, (std::vector<int>{0, 2}));
   EXPECT_FALSE(a.conflict);
   // The points corrected for the predicted eye alone: the right pair is refused.
-  EXPECT_NE(Associate(dets, layout, pred, cfg).cone_of_detection, (std::vector<int>{0, 2}));
+  const ModelPointsAt seen_from_prediction = [&](size_t c, const Eigen::Vector3d&) {
+    return CorrectedModelPoints(layout[c], eye + drift);
+  };
+  EXPECT_NE(Associate(dets, layout, pred, cfg, seen_from_prediction).cone_of_detection, (std::vector<int>{0, 2}));
 }
 
 // The detectors set a cone's mid to the image midpoint of its peak and base. Seen from near and above, that

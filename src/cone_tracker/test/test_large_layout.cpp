@@ -140,12 +140,8 @@ TEST(LargeLayout, AssociationConsidersOnlyTheConesInView) {
       points.push_back({d.peak_undist_px, d.mid_undist_px, d.base_undist_px});
       cov.push_back(PointCovariances(points.back(), 400.0, 1.0));
     }
-    std::vector<ConePoints3d> model;
-    for (const ConeModel& c : cones) {
-      const auto p = CorrectedModelPoints(c, eye_pred);
-      model.push_back({p[0], p[1], p[2]});
-    }
-    const AssociationResult a = AssociateCones(points, cov, model, cam, pred, AssociationConfig());
+    const AssociationResult a =
+        AssociateCones(points, cov, cones.size(), LayoutSeenFrom(cones), cam, pred, AssociationConfig());
     // Candidates: the cones in view plus those near the image edge or too small to be detected.
     EXPECT_LE(a.candidates.size() + a.overlapping.size(), v.detections.size() + 6) << "view " << k;
     EXPECT_FALSE(a.too_many);

@@ -188,25 +188,21 @@ TEST(Layout, SitePairAfterAnOutageGetsItsIdsUnderTheFilterCovariance) {
       0.00395, -0.010946, -0.000198, 7.8e-05, 1e-06, 2e-06,                //
       0.012294, 0.003712, 0.00011, 1e-06, 8e-05, 3e-06,                    //
       -0.001393, -0.000372, -0.000109, 2e-06, 3e-06, 0.00018;
-  std::vector<ConePoints3d> model;
-  for (const ConeModel& c : cones) {
-    const auto p = CorrectedModelPoints(c, T_cones_camera.t);
-    model.push_back({p[0], p[1], p[2]});
-  }
+  const ModelPointsAt model = LayoutSeenFrom(cones);
   const pose_math::Pose T_camera_cones = pose_math::Invert(T_cones_camera);
   AssociationConfig capped;  // before: the drift model's cap, first order
   capped.prediction_sigma_m = 1.0, capped.fit_iterations = 0;
-  const AssociationResult before = AssociateCones(dets, cov, model, cam, T_camera_cones, capped);
+  const AssociationResult before = AssociateCones(dets, cov, cones.size(), model, cam, T_camera_cones, capped);
   AssociationConfig filter;  // pose_ekf's covariance (plus the tracker's own 5 cm, 2 degrees), fitted
   filter.prediction_cov = AssociationPrior(T_cones_camera.q, cov_ros);
   filter.prediction_cov->diagonal() +=
       (Eigen::Matrix<double, 6, 1>() << Eigen::Vector3d::Constant(std::pow(2.0 * M_PI / 180.0, 2)),
        Eigen::Vector3d::Constant(0.05 * 0.05))
           .finished();
-  const AssociationResult after = AssociateCones(dets, cov, model, cam, T_camera_cones, filter);
+  const AssociationResult after = AssociateCones(dets, cov, cones.size(), model, cam, T_camera_cones, filter);
   AssociationConfig first_order = filter;
   first_order.fit_iterations = 0;
-  const AssociationResult linear = AssociateCones(dets, cov, model, cam, T_camera_cones, first_order);
+  const AssociationResult linear = AssociateCones(dets, cov, cones.size(), model, cam, T_camera_cones, first_order);
   std::printf(
       "site pair after the outage: capped 1 m, first order: ids %d %d; filter covariance, first order: "
       "ids %d %d; filter covariance, fitted: ids %d %d (cost %.2f, %d fits)\n",

@@ -55,13 +55,10 @@ void TrackerAdapter::FillObservations(const sensor_msgs::Image& im, const std::o
                                             config_.prediction_sigma_m + config_.prediction_drift_m_s * since_tracked_s)
                                  : config_.prediction_sigma_m;
     }
-    const ModelPointsAt model = [this](size_t c, const Eigen::Vector3d& eye) {
-      const auto p = CorrectedModelPoints(layout_[c], eye);  // eye: the camera in `cones`
-      return ConePoints3d{p[0], p[1], p[2]};
-    };
     CameraModel pinhole = camera_;  // the detections are undistorted (3.1.2)
     pinhole.distortion.clear();
-    r->association = AssociateCones(points, cov, layout_.size(), model, pinhole, pose_math::Invert(*pred), a);
+    r->association =
+        AssociateCones(points, cov, layout_.size(), LayoutSeenFrom(layout_), pinhole, pose_math::Invert(*pred), a);
     counters_.association_ambiguous += uint64_t(r->association.ambiguous);
     counters_.association_conflicts += r->association.conflict;
   }

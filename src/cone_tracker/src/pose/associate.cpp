@@ -93,15 +93,6 @@ std::array<Eigen::Matrix2d, 3> PointCovariances(const ConePoints2d& pts, double 
 }
 
 AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
-                                 const std::vector<std::array<Eigen::Matrix2d, 3>>& point_cov,
-                                 const std::vector<ConePoints3d>& model_cones, const CameraModel& cam,
-                                 const pose_math::Pose& T_pred, const AssociationConfig& cfg) {
-  return AssociateCones(
-      dets, point_cov, model_cones.size(), [&](size_t c, const Eigen::Vector3d&) { return model_cones[c]; }, cam,
-      T_pred, cfg);
-}
-
-AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
                                  const std::vector<std::array<Eigen::Matrix2d, 3>>& point_cov, size_t num_cones,
                                  const ModelPointsAt& model, const CameraModel& cam, const pose_math::Pose& T_pred,
                                  const AssociationConfig& cfg) {

@@ -192,6 +192,10 @@ std::array<Eigen::Vector3d, 3> CorrectedModelPoints(const ConeModel& cone, const
   return rig_model::CorrectedModelPoints(cone.base_m, cone.height_m, cone.tau, eye);  // (3.18), shared with pose_ekf
 }
 
+ModelPointsAt LayoutSeenFrom(const std::vector<ConeModel>& cones) {
+  return [&cones](size_t c, const Eigen::Vector3d& eye) { return CorrectedModelPoints(cones[c], eye); };
+}
+
 bool LayoutHasRotationalSymmetry(const std::vector<ConeModel>& cones) {
   const size_t n = cones.size();
   if (n < 2 || n > 8) return false;

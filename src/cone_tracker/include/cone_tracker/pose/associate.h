@@ -86,15 +86,11 @@ Eigen::Matrix<double, 6, 6> AssociationPrior(const pose_math::Quat& q_cones_came
 using ModelPointsAt = std::function<ConePoints3d(size_t cone, const Eigen::Vector3d& p_camera_in_cones_m)>;
 
 // detections: undistorted points; point_cov: their 2x2 covariances (PointCovariances);
-// model: the points of layout cones 0 .. num_cones - 1; camera: the pinhole of the undistorted pixels.
+// model: the points of layout cones 0 .. num_cones - 1 (cone_pose.h's LayoutSeenFrom); camera: the pinhole of
+// the undistorted pixels.
 AssociationResult AssociateCones(const std::vector<ConePoints2d>& detections,
                                  const std::vector<std::array<Eigen::Matrix2d, 3>>& point_cov, size_t num_cones,
                                  const ModelPointsAt& model, const CameraModel& camera,
-                                 const pose_math::Pose& T_camera_cones_pred, const AssociationConfig& config);
-// The same with each cone's points fixed (corrected for the predicted eye, or for none).
-AssociationResult AssociateCones(const std::vector<ConePoints2d>& detections,
-                                 const std::vector<std::array<Eigen::Matrix2d, 3>>& point_cov,
-                                 const std::vector<ConePoints3d>& model_cones, const CameraModel& camera,
                                  const pose_math::Pose& T_camera_cones_pred, const AssociationConfig& config);
 
 // The 2x2 covariances (px^2) of a detected cone's peak, mid and base: sigma_px

@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 
+#include "cone_tracker/pose/associate.h"
 #include "cone_tracker/pose/pnp.h"
 #include "cone_tracker/vision/segmenter.h"
 #include "rig_model/layout.h"
@@ -33,6 +34,9 @@ std::vector<ConeModel> ConeModels(const rig_model::Layout& layout);
 // side facing the centre of projection (3.1.4): the silhouette's mid and base
 // points lie on the front of the cone, radius tau * (height above) off its axis.
 std::array<Eigen::Vector3d, 3> CorrectedModelPoints(const ConeModel& cone, const Eigen::Vector3d& p_camera_in_cones_m);
+// The layout's CorrectedModelPoints for any eye: the model AssociateCones fits. It refers to `cones`,
+// which must outlive it.
+ModelPointsAt LayoutSeenFrom(const std::vector<ConeModel>& cones);
 
 // True when some rotation about z maps the layout onto itself with the cones
 // permuted (the equilateral layout's 120 degrees): identical cones cannot tell
