@@ -66,6 +66,7 @@ TEST(Replay, WritesATumTrajectoryThatFollowsTheTruth) {
   pose_ekf::ReplayOptions o;
   o.bag_path = WriteBag(events, true, "pose_ekf_replay.bag");
   o.output_path = ::testing::TempDir() + "pose_ekf_replay.txt";
+  o.covariance_path = ::testing::TempDir() + "pose_ekf_replay_covariance.txt";
   std::ostringstream log;
   const pose_ekf::ReplaySummary s = pose_ekf::RunReplay(o, log);
   EXPECT_FALSE(s.orientation_only);
@@ -85,6 +86,35 @@ TEST(Replay, WritesATumTrajectoryThatFollowsTheTruth) {
   ASSERT_GT(n, 390);
   EXPECT_LT(std::sqrt(sum_rot2 / n) * 180 / M_PI, 0.3);
   EXPECT_LT(std::sqrt(sum_pos2 / n), 0.01);
+
+  // --covariance: a line per pose (no bias states by default: stamp and the six variances), and the position's
+  // 3 sigma holds the true error at nearly every stamp.
+  std::ifstream cov(o.covariance_path);
+  std::string line;
+  ASSERT_TRUE(std::getline(cov, line));
+  EXPECT_EQ(line, "# stamp_s var_x var_y var_z var_rx var_ry var_rz");
+  size_t rows = 0;
+  int checked = 0, inside = 0;
+  std::map<long, const Event*> truth;
+  for (const Event& e : events) truth[std::lround(e.stamp_s * 1000)] = &e;
+  while (std::getline(cov, line)) {
+    std::istringstream fields(line);
+    double t, var[6], extra;
+    for (double* v : {&t, var, var + 1, var + 2, var + 3, var + 4, var + 5}) ASSERT_TRUE(fields >> *v) << line;
+    EXPECT_FALSE(fields >> extra) << line;
+    for (double v : var) EXPECT_GT(v, 0.0) << line;
+    ++rows;
+    const auto it = truth.find(std::lround(t * 1000));
+    const auto est = tum.find(std::lround(t * 1000));
+    if (t < 1.0 || it == truth.end() || est == tum.end() || it->second->is_camera) continue;
+    const Eigen::Vector3d e = est->second.t - it->second->truth.T_cones_camera.t;
+    ++checked;
+    inside += std::abs(e.x()) <= 3 * std::sqrt(var[0]) && std::abs(e.y()) <= 3 * std::sqrt(var[1]) &&
+              std::abs(e.z()) <= 3 * std::sqrt(var[2]);
+  }
+  EXPECT_EQ(rows, s.poses_written);
+  ASSERT_GT(checked, 390);
+  EXPECT_GT(inside, 0.95 * checked) << inside << " of " << checked;
 }
 
 TEST(Replay, ImuOnlyBagRunsOrientationOnly) {

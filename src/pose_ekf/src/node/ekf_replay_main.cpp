@@ -1,5 +1,5 @@
 // rosrun pose_ekf ekf_replay --bag IN.bag [--config FILE] --output traj.txt
-//   [--camera-topic cone_tracker/pose] [--imu-topic imu/data_raw] [--cone-log FILE]
+//   [--camera-topic cone_tracker/pose] [--imu-topic imu/data_raw] [--cone-log FILE] [--covariance FILE]
 #include <cstring>
 #include <iostream>
 #include <string>
@@ -23,6 +23,8 @@ int main(int argc, char** argv) {
       o.imu_topic = value;
     else if (key == "--cone-log")
       o.cone_log_path = value;
+    else if (key == "--covariance")
+      o.covariance_path = value;
     else {
       std::cerr << "ekf_replay: unknown option " << key << "\n";
       return 2;
@@ -30,7 +32,7 @@ int main(int argc, char** argv) {
   }
   if (o.bag_path.empty() || o.output_path.empty() || argc % 2 == 0) {
     std::cerr << "usage: ekf_replay --bag IN.bag [--config FILE.yaml] --output traj.txt "
-                 "[--camera-topic T] [--imu-topic T] [--cone-log FILE]\n";
+                 "[--camera-topic T] [--imu-topic T] [--cone-log FILE] [--covariance FILE]\n";
     return 2;
   }
   try {

@@ -6,6 +6,7 @@
 #include <tf2/exceptions.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <ostream>
@@ -20,6 +21,20 @@ namespace {
 bool SameTopic(const std::string& a, const std::string& b) {
   auto strip = [](const std::string& s) { return !s.empty() && s[0] == '/' ? s.substr(1) : s; };
   return strip(a) == strip(b);
+}
+
+// One line of ReplayOptions::covariance_path.
+void WriteCovarianceLine(double stamp_s, const boost::array<double, 36>& cov, const EkfCore& filter,
+                         std::ostream& out) {
+  out << std::fixed << std::setprecision(9) << stamp_s << std::scientific << std::setprecision(6);
+  for (int k = 0; k < 6; ++k) out << ' ' << cov[k * 7];
+  const FilterState& s = filter.state();
+  for (const int i : {filter.config().estimate_gyro_bias ? kB : -1, AccelBiasIndex(filter.config())}) {
+    if (i < 0) continue;
+    for (int k = 0; k < 3; ++k) out << ' ' << s.x(i + k);
+    for (int k = 0; k < 3; ++k) out << ' ' << std::sqrt(s.P(i + k, i + k));
+  }
+  out << '\n';
 }
 
 }  // namespace
@@ -88,6 +103,15 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
              << "# stamp_s cones ids result fused gated joint_dropped ambiguous too_few own_chi2 rival_chi2 rival_id "
                 "sigma_p_m\n";
   }
+  std::ofstream covariance;
+  if (!options.covariance_path.empty()) {
+    covariance.open(options.covariance_path);
+    if (!covariance) throw std::runtime_error("cannot write " + options.covariance_path);
+    const EkfConfig& ekf = adapter.buffer().filter().config();  // the columns WriteCovarianceLine writes
+    covariance << "# stamp_s var_x var_y var_z var_rx var_ry var_rz"
+               << (ekf.estimate_gyro_bias ? " gyro_bias_xyz_rad_s gyro_bias_sigma_xyz_rad_s" : "")
+               << (ekf.estimate_accel_bias ? " accel_bias_xyz_m_s2 accel_bias_sigma_xyz_m_s2" : "") << "\n";
+  }
   double last_written = -1.0;
   auto write = [&] {
     AdapterOutputs o;
@@ -99,6 +123,8 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
     out << t << ' ' << p.position.x << ' ' << p.position.y << ' ' << p.position.z << ' ' << p.orientation.x << ' '
         << p.orientation.y << ' ' << p.orientation.z << ' ' << p.orientation.w << '\n';
     ++summary.poses_written;
+    if (covariance.is_open())
+      WriteCovarianceLine(o.pose.header.stamp.toSec(), o.pose.pose.covariance, adapter.buffer().filter(), covariance);
   };
   std::string why;
   for (const rosbag::MessageInstance& m : rosbag::View(bag)) {

@@ -19,6 +19,10 @@ struct ReplayOptions {
   // Optional: one line per cone observation message (stamp, cone ids, what became of it, the lone-cone
   // ambiguity statistics, the position sigma after it), for looking at re-acquisitions frame by frame.
   std::string cone_log_path;
+  // Optional: one line per pose written, its stamp, the diagonal of its ROS 6x6 covariance (x y z rx ry rz) and,
+  // when they are states, the gyro and accelerometer biases (camera axes) with their sigmas: with a truth at hand,
+  // how consistent the filter is, e.g. in camera outages (README, "camera outages").
+  std::string covariance_path;
 };
 
 struct ReplaySummary {
