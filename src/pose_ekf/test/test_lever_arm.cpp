@@ -184,5 +184,37 @@ TEST(AccelBias, ConvergesOnTheSyntheticRig) {
   EXPECT_EQ(plain.accel_bias_m_s2(), Eigen::Vector3d::Zero());
 }
 
+// omega_walk_at_gyro: ω's random walk added at the gyro samples, not spread over the predictions between them,
+// leaves q no random walk beyond the gyro's noise, so the camera pins the gyro bias down sooner (config.h).
+TEST(GyroBias, OmegaWalkAtGyroSamplesLearnsTheBiasSooner) {
+  pose_ekf::EkfConfig c;
+  c.estimate_gyro_bias = true;
+  c.gyro_is_centred_interval_mean = true;
+  c.accel_gate_m_s2 = 0.0;
+  RigSimConfig rig;
+  rig.duration_s = 6.0;
+  rig.gyro_bias_rad_s = Eigen::Vector3d(0.004, -0.003, 0.005);
+  double err_spread = 0.0, err_at_gyro = 0.0;
+  for (rig.seed = 1; rig.seed <= 8; ++rig.seed) {
+    const std::vector<Event> events = GenerateRig(rig);
+    double err[2], sigma[2];
+    for (const bool at_gyro : {false, true}) {
+      c.omega_walk_at_gyro = at_gyro;
+      pose_ekf::MeasurementBuffer b(c);
+      for (const Event& e : events) e.is_camera ? b.AddCamera(e.camera) : b.AddImu(e.imu);
+      err[at_gyro] = (b.filter().gyro_bias_rad_s() - rig.gyro_bias_rad_s).norm();
+      sigma[at_gyro] = std::sqrt(b.filter().state().P.block<3, 3>(pose_ekf::kB, pose_ekf::kB).trace() / 3.0);
+    }
+    std::printf(
+        "[ gyro bias ] seed %u after %.0f s: error %.5f rad/s, sigma %.5f (walk spread); error %.5f, sigma "
+        "%.5f (at the gyro samples)\n",
+        rig.seed, rig.duration_s, err[0], sigma[0], err[1], sigma[1]);
+    EXPECT_LT(sigma[1], 0.5 * sigma[0]);
+    EXPECT_LT(err[1], 3.0 * std::sqrt(3.0) * sigma[1]);  // the smaller sigma is honest
+    err_spread += err[0];
+    err_at_gyro += err[1];
+  }
+  EXPECT_LT(err_at_gyro, 0.8 * err_spread);
+}
 }  // namespace
 }  // namespace pose_ekf_test

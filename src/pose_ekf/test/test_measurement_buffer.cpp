@@ -292,6 +292,14 @@ TEST(MeasurementBuffer, CentredGyroSamplesDoNotLagTheOrientation) {
   pose_ekf::EkfConfig both;
   both.gyro_is_interval_mean = both.gyro_is_centred_interval_mean = true;
   EXPECT_NE(both.Validate().find("gyro_is_centred_interval_mean"), std::string::npos);
+  pose_ekf::EkfConfig walk;  // ω's walk at the samples only for a gyro that averages over its period
+  walk.omega_walk_at_gyro = true;
+  EXPECT_NE(walk.Validate().find("omega_walk_at_gyro needs"), std::string::npos);
+  walk.gyro_is_centred_interval_mean = true;
+  EXPECT_EQ(walk.Validate(), "");
+  walk.gyro_is_centred_interval_mean = false;
+  walk.gyro_is_interval_mean = true;
+  EXPECT_EQ(walk.Validate(), "");
 }
 
 }  // namespace

@@ -55,6 +55,7 @@ TEST(NodeConfig, TheTableHasEveryParameterTheLoaderRead) {
                                        "use_gyro",
                                        "gyro_is_interval_mean",
                                        "gyro_is_centred_interval_mean",
+                                       "omega_walk_at_gyro",
                                        "accel_mode",
                                        "quat_integration",
                                        "use_accel",

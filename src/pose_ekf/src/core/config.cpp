@@ -29,6 +29,10 @@ std::string EkfConfig::Validate() const {
   if (gyro_is_interval_mean && gyro_is_centred_interval_mean) {
     err << "gyro_is_interval_mean and gyro_is_centred_interval_mean exclude each other; ";
   }
+  if (omega_walk_at_gyro && !gyro_is_interval_mean && !gyro_is_centred_interval_mean) {
+    err << "omega_walk_at_gyro needs gyro_is_interval_mean or gyro_is_centred_interval_mean (a gyro that averages "
+           "over its period; a point sample leaves the rate free to change between samples); ";
+  }
   Check(err, "init_sigma_omega_rad_s", init_sigma_omega_rad_s, 0.0, false);
   Check(err, "init_sigma_v_m_s", init_sigma_v_m_s, 0.0, false);
   Check(err, "init_sigma_a_m_s2", init_sigma_a_m_s2, 0.0, false);

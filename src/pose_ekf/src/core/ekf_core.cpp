@@ -65,6 +65,7 @@ bool EkfCore::Initialize(const CameraMeasurement& m) {
 }
 
 void EkfCore::InitializeUnmeasured(int n) {
+  s_.omega_walk_pending_s = 0.0;  // P(ω) starts from init_sigma_omega_rad_s
   auto set_diag = [&](int i, double sigma) { s_.P.block<3, 3>(i, i) = sigma * sigma * Eigen::Matrix3d::Identity(); };
   set_diag(kW, config_.init_sigma_omega_rad_s);
   set_diag(kV, config_.init_sigma_v_m_s);
@@ -117,8 +118,20 @@ void EkfCore::PredictStep(double dt) {
   const StateMatrix F = TransitionJacobian(s_.x, dt, config_.quat_integration, tau_v, tau_a);  // (5.22)
   s_.x = PropagateState(s_.x, dt, config_.quat_integration, tau_v, tau_a);                     // (5.20)
   NormalizeQuat(s_.x);
-  s_.P = PropagateCovariance(F, s_.P) + ProcessNoise(config_, static_cast<int>(s_.x.size()), dt);  // (5.14)
+  StateMatrix Q = ProcessNoise(config_, static_cast<int>(s_.x.size()), dt);  // (5.23)
+  if (config_.omega_walk_at_gyro && config_.use_gyro) {  // ω's walk waits for the next gyro sample (config.h)
+    Q.block<3, 3>(kW, kW).setZero();
+    s_.omega_walk_pending_s += dt;
+    if (s_.omega_walk_pending_s > kMaxOmegaWalkDeferS) AddOmegaWalk();
+  }
+  s_.P = PropagateCovariance(F, s_.P) + Q;  // (5.14)
   pose_math::SymmetrizeCovariance(s_.P);
+}
+
+void EkfCore::AddOmegaWalk() {
+  const double s = config_.sigma_omega_rad_s_per_sqrt_s;
+  s_.P.block<3, 3>(kW, kW).diagonal().array() += s * s * s_.omega_walk_pending_s;  // (5.23), ω's block
+  s_.omega_walk_pending_s = 0.0;
 }
 
 pose_math::PoseWithCovariance EkfCore::Pose() const {

@@ -12,6 +12,7 @@ UpdateResult EkfCore::UpdateGyro(const ImuMeasurement& m, double* nis) {
   if (!m.omega_camera_rad_s.allFinite() || (m.has_covariance && !m.gyro_cov.allFinite())) {
     return UpdateResult::kRejectedNonFinite;
   }
+  if (s_.omega_walk_pending_s > 0.0) AddOmegaWalk();  // omega_walk_at_gyro: the walk since the last sample
   const int n = static_cast<int>(s_.x.size());
   Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, kMaxStates> H = Eigen::MatrixXd::Zero(3, n);
   H.block<3, 3>(0, kW).setIdentity();       // (5.29)

@@ -72,6 +72,7 @@ const Table& Params() {
       .Add("use_camera", [](NodeConfig& c) -> bool& { return c.ekf.use_camera; })
       .Add("use_gyro", [](NodeConfig& c) -> bool& { return c.ekf.use_gyro; })
       .Add("gyro_is_interval_mean", [](NodeConfig& c) -> bool& { return c.ekf.gyro_is_interval_mean; })
+      .Add("omega_walk_at_gyro", [](NodeConfig& c) -> bool& { return c.ekf.omega_walk_at_gyro; })
       .Add("gyro_is_centred_interval_mean",
            [](NodeConfig& c) -> bool& { return c.ekf.gyro_is_centred_interval_mean; })
       .AddEnum("accel_mode", [](NodeConfig& c) -> int& { return c.accel_mode; },

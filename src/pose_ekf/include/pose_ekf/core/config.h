@@ -11,6 +11,8 @@ namespace pose_ekf {
 enum class QuatIntegration { kFirstOrder, kExact };  // (2.70) (thesis default) or (2.71)
 // A camera-IMU lever arm longer than this is a broken calibration (a rig is centimetres across).
 constexpr double kMaxLeverArmM = 1.0;
+// omega_walk_at_gyro: the longest time ω's random walk waits for a gyro sample (10 periods at 100 Hz).
+constexpr double kMaxOmegaWalkDeferS = 0.1;
 
 enum class AccelMode { kOff, kOrientation, kPositionAndOrientation };  // h, H: (5.36) (5.37) / (5.39) (5.40)
 // What corrects the filter from the camera: the tracker's cone observations, one update per cone
@@ -57,6 +59,13 @@ struct EkfConfig {
   // Either of the two orders above lags or leads the orientation by half a period (5 ms at 100 Hz:
   // 0.7 deg at 2.4 rad/s on rig_sim's handheld, measured in the README). Excludes gyro_is_interval_mean.
   bool gyro_is_centred_interval_mean = false;
+  // true (with use_gyro): ω's random walk (sigma_omega_rad_s_per_sqrt_s) is added at each gyro sample, for the time
+  // since the last one, instead of at every prediction step. ω is then constant between samples, as a gyro that
+  // averages over its period sees it. Spread over the steps, the walk also reaches q between a sample and the next
+  // (the prediction integrates ω), a random walk of q beyond the gyro's own noise that hides the gyro bias from the
+  // camera (README, "camera outages"). A gap over kMaxOmegaWalkDeferS adds it as before. Needs
+  // gyro_is_interval_mean or gyro_is_centred_interval_mean: with point samples the rate does change between them.
+  bool omega_walk_at_gyro = false;
 
   // Camera gate, beyond the thesis (its vision thread gates in image space,
   // 6.4.1): a camera pose whose squared Mahalanobis distance under the filter's

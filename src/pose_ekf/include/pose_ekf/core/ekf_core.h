@@ -25,7 +25,8 @@ struct FilterState {
   Eigen::Vector3d omega_at_last_gyro_rad_s = Eigen::Vector3d::Zero();
   double last_gyro_stamp_s = -1.0;  // < 0: none yet
   Eigen::Vector3d alpha_camera_rad_s2 = Eigen::Vector3d::Zero();
-  double last_imu_stamp_s = -1.0;  // the last IMU sample's stamp (gyro_is_centred_interval_mean); < 0: none
+  double last_imu_stamp_s = -1.0;     // the last IMU sample's stamp (gyro_is_centred_interval_mean); < 0: none
+  double omega_walk_pending_s = 0.0;  // omega_walk_at_gyro: prediction time whose ω random walk is not in P yet
 };
 
 class EkfCore {
@@ -100,6 +101,7 @@ class EkfCore {
   // One cone's (iterated) update from the current state (cone_update.cpp); the state is unchanged unless applied.
   UpdateResult UpdateCone(const ConeObservation& o, const PinholeIntrinsics& K, double* nis);
   void NoteAngularAcceleration();
+  void AddOmegaWalk();  // omega_walk_at_gyro: ω's random walk for omega_walk_pending_s into P
 
   EkfConfig config_;
   double camera_gate_chi2_ = 0.0;  // config_.camera_gate_chi2, infinite when off
