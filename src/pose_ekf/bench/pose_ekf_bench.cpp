@@ -176,6 +176,12 @@ int main() {
          c->estimate_accel_bias = true;
          c->estimate_gyro_bias = true;
        }},
+      // ar_bringup's pose_ekf_rig_sim.yaml IMU model: both biases, centred gyro samples, ω's walk at the samples.
+      {"rig_sim_imu_model",
+       [](pose_ekf::EkfConfig* c) {
+         c->estimate_accel_bias = c->estimate_gyro_bias = true;
+         c->gyro_is_centred_interval_mean = c->omega_walk_at_gyro = true;
+       }},
   };
   double lever_bias_imu = 0.0;
   for (const Variant& v : variants) {
