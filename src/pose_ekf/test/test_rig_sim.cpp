@@ -143,13 +143,16 @@ pose_ekf::EkfConfig RigConfig(const rig_sim::Scenario& s) {
 // gyro sample at the middle of the period it averages (REP-145), so the samples are applied there
 // (gyro_is_centred_interval_mean) and ω's random walk waits for them (omega_walk_at_gyro). The rate between two
 // samples is then the gyro's, not a free walk, so q needs no process noise of its own beyond σ_q = 5e-5 (3e-4
-// above stands for that walk), and σ_gyro is the Crista's 0.12 deg/s white noise (0.002 rad/s).
+// above stands for that walk), and σ_gyro is the Crista's 0.12 deg/s white noise (0.002 rad/s). σ_accel is its
+// accelerometer's 0.03 m/s² with a margin (0.05), and v has little walk of its own besides a's (0.01 m/s/√s).
 pose_ekf::EkfConfig ShippedRigConfig(const rig_sim::Scenario& s) {
   pose_ekf::EkfConfig c = RigConfig(s);
   c.gyro_is_centred_interval_mean = true;
   c.omega_walk_at_gyro = true;
   c.sigma_q_per_sqrt_s = 5e-5;
   c.sigma_gyro_rad_s = 0.002;
+  c.sigma_v_m_s_per_sqrt_s = 0.01;
+  c.sigma_accel_m_s2 = 0.05;
   return c;
 }
 
