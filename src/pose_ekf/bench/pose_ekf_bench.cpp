@@ -11,6 +11,7 @@
 
 #include "bench_util.h"
 #include "pose_ekf/core/measurement_buffer.h"
+#include "pose_ekf/node/node_config.h"
 #include "pose_ekf/testing/synthetic_rig.h"
 
 namespace {
@@ -176,11 +177,14 @@ int main() {
          c->estimate_accel_bias = true;
          c->estimate_gyro_bias = true;
        }},
-      // ar_bringup's pose_ekf_rig_sim.yaml IMU model: both biases, centred gyro samples, ω's walk at the samples.
+      // ar_bringup's pose_ekf_rig_sim.yaml itself (both biases, centred gyro samples, ω's walk at the samples), fed
+      // these camera poses rather than cone observations.
       {"rig_sim_imu_model",
        [](pose_ekf::EkfConfig* c) {
-         c->estimate_accel_bias = c->estimate_gyro_bias = true;
-         c->gyro_is_centred_interval_mean = c->omega_walk_at_gyro = true;
+         *c = pose_ekf::LoadConfigFile(std::string(POSE_EKF_SOURCE_DIR) + "/../ar_bringup/config/pose_ekf_rig_sim.yaml")
+                  .ekf;
+         c->camera_update = pose_ekf::CameraUpdate::kPose;
+         c->accel_gate_m_s2 = 0.0;  // as the default's: both IMU updates on every sample
        }},
   };
   double lever_bias_imu = 0.0;

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "pose_ekf/node/node_config.h"
 #include "pose_ekf/testing/synthetic_rig.h"
 #include "pose_math/covariance.h"
 #include "pose_math/rotation.h"
@@ -139,20 +140,14 @@ pose_ekf::EkfConfig RigConfig(const rig_sim::Scenario& s) {
   return c;
 }
 
-// The IMU model of ar_bringup/config/pose_ekf_rig_sim.yaml, which the bags and sim.launch use: rig_sim stamps a
-// gyro sample at the middle of the period it averages (REP-145), so the samples are applied there
-// (gyro_is_centred_interval_mean) and ω's random walk waits for them (omega_walk_at_gyro). The rate between two
-// samples is then the gyro's, not a free walk, so q needs no process noise of its own beyond σ_q = 5e-5 (3e-4
-// above stands for that walk), and σ_gyro is the Crista's 0.12 deg/s white noise (0.002 rad/s). σ_accel is its
-// accelerometer's 0.03 m/s² with a margin (0.05), and v has little walk of its own besides a's (0.01 m/s/√s).
+// The filter as rig_sim's bags and sim.launch run it: ar_bringup/config/pose_ekf_rig_sim.yaml itself (its IMU model:
+// centred gyro samples, ω's walk at the samples, both bias states, the Crista's noise; pose_ekf's README, "The gyro
+// bias"), fed this test's camera poses instead of cone observations, with the scenario's gravity.
 pose_ekf::EkfConfig ShippedRigConfig(const rig_sim::Scenario& s) {
-  pose_ekf::EkfConfig c = RigConfig(s);
-  c.gyro_is_centred_interval_mean = true;
-  c.omega_walk_at_gyro = true;
-  c.sigma_q_per_sqrt_s = 5e-5;
-  c.sigma_gyro_rad_s = 0.002;
-  c.sigma_v_m_s_per_sqrt_s = 0.01;
-  c.sigma_accel_m_s2 = 0.05;
+  pose_ekf::EkfConfig c =
+      pose_ekf::LoadConfigFile(std::string(POSE_EKF_SOURCE_DIR) + "/../ar_bringup/config/pose_ekf_rig_sim.yaml").ekf;
+  c.camera_update = pose_ekf::CameraUpdate::kPose;
+  c.gravity_m_s2 = s.imu.gravity_m_s2;
   return c;
 }
 

@@ -28,12 +28,13 @@ void WriteCovarianceLine(double stamp_s, const boost::array<double, 36>& cov, co
                          std::ostream& out) {
   out << std::fixed << std::setprecision(9) << stamp_s << std::scientific << std::setprecision(6);
   for (int k = 0; k < 6; ++k) out << ' ' << cov[k * 7];
-  const FilterState& s = filter.state();
-  for (const int i : {filter.config().estimate_gyro_bias ? kB : -1, AccelBiasIndex(filter.config())}) {
-    if (i < 0) continue;
-    for (int k = 0; k < 3; ++k) out << ' ' << s.x(i + k);
-    for (int k = 0; k < 3; ++k) out << ' ' << std::sqrt(s.P(i + k, i + k));
-  }
+  const StateMatrix& P = filter.state().P;
+  auto write = [&](const Eigen::Vector3d& bias, int i) {
+    out << ' ' << bias.x() << ' ' << bias.y() << ' ' << bias.z();
+    for (int k = 0; k < 3; ++k) out << ' ' << std::sqrt(P(i + k, i + k));
+  };
+  if (filter.config().estimate_gyro_bias) write(filter.gyro_bias_rad_s(), kB);
+  if (filter.config().estimate_accel_bias) write(filter.accel_bias_m_s2(), AccelBiasIndex(filter.config()));
   out << '\n';
 }
 
