@@ -3,7 +3,9 @@
 // cone_tracker/detections came back, so no frame is dropped and the run does
 // not depend on machine load. Checks the poses against rig_sim/ground_truth.
 #include <gtest/gtest.h>
+
 #include <ros/ros.h>
+#include <algorithm>
 
 #include <cstdio>
 #include <set>
@@ -58,8 +60,17 @@ TEST(NodeletReplay, HandheldSampleInLockstep) {
   Listener listener(nh);
   ros::Publisher image_pub = nh.advertise<sensor_msgs::Image>("camera/image_raw", 1);
   ros::Publisher info_pub = nh.advertise<sensor_msgs::CameraInfo>("camera/camera_info", 1, /*latch=*/true);
-  ASSERT_TRUE(SpinUntil([&] { return image_pub.getNumSubscribers() > 0 && info_pub.getNumSubscribers() > 0; }, 60.0))
-      << "the nodelet did not subscribe to camera/image_raw and camera/camera_info";
+  // Both ways: the nodelet takes the camera topics, and this test takes its pose, detections and observations (a
+  // frame processed before those connect is lost to the test, and the wait below for it would never end).
+  ASSERT_TRUE(SpinUntil(
+      [&] {
+        return image_pub.getNumSubscribers() > 0 && info_pub.getNumSubscribers() > 0 &&
+               std::all_of(listener.subs.begin(), listener.subs.begin() + 3,
+                           [](const ros::Subscriber& s) { return s.getNumPublishers() > 0; });
+      },
+      60.0))
+      << "the nodelet and this test did not connect (camera/image_raw, camera/camera_info, cone_tracker/pose, "
+         "cone_tracker/detections, cone_tracker/observations)";
   info_pub.publish(frames.front().info);
   // camera_info travels on its own connection and may reach the nodelet after the first frame: until
   // it has, the nodelet counts the frame as without camera_info (and publishes no detections), so
