@@ -27,25 +27,6 @@ std::string Write(const std::string& name, const std::string& text) {
   return path;
 }
 
-cone_tracker::ConeObservations ObservationsMsg(const pose_ekf::ConeFrame& f) {
-  cone_tracker::ConeObservations msg;
-  msg.header.stamp.fromSec(f.stamp_s);
-  msg.header.frame_id = "camera_optical";
-  msg.fx = f.K.fx_px, msg.fy = f.K.fy_px, msg.cx = f.K.cx_px, msg.cy = f.K.cy_px;
-  for (const pose_ekf::ConeObservation& o : f.cones) {
-    cone_tracker::ConeObservation c;
-    c.cone_id = o.cone_id;
-    boost::array<double, 2>* px[3] = {&c.peak_px, &c.mid_px, &c.base_px};
-    boost::array<double, 4>* cov[3] = {&c.peak_cov_px2, &c.mid_cov_px2, &c.base_cov_px2};
-    for (int k = 0; k < 3; ++k) {
-      (*px[k])[0] = o.px[k].x(), (*px[k])[1] = o.px[k].y();
-      for (int i = 0; i < 4; ++i) (*cov[k])[static_cast<size_t>(i)] = o.cov_px2[k](i / 2, i % 2);
-    }
-    msg.cones.push_back(c);
-  }
-  return msg;
-}
-
 pose_ekf::NodeConfig WithLayout() {
   pose_ekf::NodeConfig c;
   c.camera_update = static_cast<int>(pose_ekf::CameraUpdate::kCones);  // opt-in (the default is pose)

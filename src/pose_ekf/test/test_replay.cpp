@@ -7,11 +7,14 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <map>
+#include <random>
 #include <sstream>
 
 #include "pose_ekf/node/node_config.h"
 #include "pose_ekf/node/replay.h"
+#include "pose_ekf/testing/synthetic_cones.h"
 #include "pose_ekf/testing/synthetic_rig.h"
 #include "pose_math/rotation.h"
 #include "ros_messages.h"
@@ -19,7 +22,10 @@
 namespace pose_ekf_test {
 namespace {
 
-std::string WriteBag(const std::vector<Event>& events, bool with_camera, const std::string& name) {
+// with_cones: the first camera pose (it initialises the filter) and, for every camera event, the default layout's
+// cones seen from the truth with 1 px noise (synthetic_cones.h) instead of the poses.
+std::string WriteBag(const std::vector<Event>& events, bool with_camera, const std::string& name,
+                     bool with_cones = false) {
   const std::string path = ::testing::TempDir() + name;
   rosbag::Bag bag(path, rosbag::bagmode::Write);
   tf2_msgs::TFMessage tf;
@@ -31,10 +37,18 @@ std::string WriteBag(const std::vector<Event>& events, bool with_camera, const s
   tf.transforms[0].transform.rotation.y = kQCameraImu.y();
   tf.transforms[0].transform.rotation.z = kQCameraImu.z();
   bag.write("/tf_static", ros::Time(1.0), tf);
+  std::mt19937 rng(3);
+  bool first_pose = true;
   for (const Event& e : events) {
     ros::Time t;
     t.fromSec(e.stamp_s + 1.0);  // ros::Time cannot be 0 in a bag
-    if (e.is_camera && with_camera) {
+    if (e.is_camera && with_cones) {
+      pose_ekf::ConeFrame f = ObserveCones(e.stamp_s + 1.0, e.truth.T_cones_camera, DefaultCones(), {0, 1, 2},
+                                           DefaultIntrinsics(), 1.0, &rng);
+      bag.write("/cone_tracker/observations", t, ObservationsMsg(f));
+    }
+    if (e.is_camera && with_camera && (first_pose || !with_cones)) {
+      first_pose = false;
       auto msg = CameraMsg(e.camera);
       msg.header.stamp = t;
       bag.write("/cone_tracker/pose", t, msg);
@@ -115,6 +129,46 @@ TEST(Replay, WritesATumTrajectoryThatFollowsTheTruth) {
   EXPECT_EQ(rows, s.poses_written);
   ASSERT_GT(checked, 390);
   EXPECT_GT(inside, 0.95 * checked) << inside << " of " << checked;
+}
+
+// --cone-log: a line per observation message, its last column the joint NIS of the cones fused. With the pixel noise
+// the observations claim, that NIS per degree of freedom (4 a cone: peak and base) averages 1.
+TEST(Replay, ConeLogGivesTheFusedConesNis) {
+  RigSimConfig sim;
+  sim.duration_s = 5.0;
+  pose_ekf::ReplayOptions o;
+  o.bag_path = WriteBag(GenerateRig(sim), true, "pose_ekf_replay_cones.bag", true);
+  o.output_path = ::testing::TempDir() + "pose_ekf_replay_cones.txt";
+  o.cone_log_path = ::testing::TempDir() + "pose_ekf_replay_cones.log";
+  o.config.camera_update = static_cast<int>(pose_ekf::CameraUpdate::kCones);
+  o.config.layout_file = std::string(POSE_EKF_SOURCE_DIR) + "/../rig_model/config/layouts/default.yaml";
+  pose_ekf::LoadLayout(&o.config);
+  pose_ekf::ValidateConfig(&o.config);  // as the loaders do: sets ekf.camera_update
+  std::ostringstream log;
+  const pose_ekf::ReplaySummary s = pose_ekf::RunReplay(o, log);
+  EXPECT_GT(s.observation_messages, 140u) << log.str();
+  std::ifstream f(o.cone_log_path);
+  std::string line;
+  ASSERT_TRUE(std::getline(f, line));
+  EXPECT_EQ(line,
+            "# stamp_s cones ids result fused gated joint_dropped ambiguous too_few own_chi2 rival_chi2 rival_id "
+            "sigma_p_m nis");
+  size_t rows = 0;
+  double nis_sum = 0.0;
+  int dof = 0;
+  while (std::getline(f, line)) {
+    std::istringstream fields(line);
+    std::vector<std::string> c{std::istream_iterator<std::string>(fields), std::istream_iterator<std::string>()};
+    ASSERT_EQ(c.size(), 14u) << line;
+    ++rows;
+    const int fused = std::stoi(c[4]);
+    if (std::stod(c[0]) < 2.0 || fused == 0) continue;  // after the first second (stamps start at 1 s)
+    nis_sum += std::stod(c[13]);
+    dof += 4 * fused;
+  }
+  EXPECT_EQ(rows, s.observation_messages);
+  ASSERT_GT(dof, 4 * 3 * 100);
+  EXPECT_NEAR(nis_sum / dof, 1.0, 0.25) << nis_sum << " over " << dof << " degrees of freedom";
 }
 
 TEST(Replay, ImuOnlyBagRunsOrientationOnly) {

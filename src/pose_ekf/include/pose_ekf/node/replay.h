@@ -17,7 +17,8 @@ struct ReplayOptions {
   std::string observations_topic = "cone_tracker/observations";  // per-cone updates (config.layout_file)
   NodeConfig config;
   // Optional: one line per cone observation message (stamp, cone ids, what became of it, the lone-cone
-  // ambiguity statistics, the position sigma after it), for looking at re-acquisitions frame by frame.
+  // ambiguity statistics, the position sigma after it, the fused cones' joint NIS: 4 degrees of freedom a cone), for
+  // looking at re-acquisitions frame by frame and at how the cones' covariances compare with their innovations.
   std::string cone_log_path;
   // Optional: one line per pose written, its stamp, the diagonal of its ROS 6x6 covariance (x y z rx ry rz) and,
   // when they are states, the gyro and accelerometer biases (camera axes) with their sigmas: with a truth at hand,
