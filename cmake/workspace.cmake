@@ -66,6 +66,62 @@ if(NOT PROJECT_NAME STREQUAL "Project")
   cmake_language(DEFER CALL _ws_apply_unity_skips)
 endif()
 
+# One make graph for the build and the test binaries: `make test` builds the target ws_all_and_tests,
+# which depends on every target of the default build (`all`) and on catkin's `tests`. Built as
+# `catkin_make` then `catkin_make tests`, the two phases each ended with one core idle (the last
+# link or compile of the phase alone), and the test binaries, which need only their own libraries,
+# waited for the whole of `all`. The targets of `all` are the ones not EXCLUDE_FROM_ALL (custom targets
+# without ALL are), collected over the workspace's directories once every package is configured.
+function(_ws_collect_all_targets dir out)
+  get_property(targets DIRECTORY "${dir}" PROPERTY BUILDSYSTEM_TARGETS)
+  get_property(dir_excluded DIRECTORY "${dir}" PROPERTY EXCLUDE_FROM_ALL)
+  set(found)
+  foreach(target IN LISTS targets)
+    get_target_property(type ${target} TYPE)
+    get_target_property(excluded ${target} EXCLUDE_FROM_ALL)
+    if(excluded MATCHES "NOTFOUND$")
+      set(excluded ${dir_excluded})
+    endif()
+    if(NOT type STREQUAL "INTERFACE_LIBRARY" AND NOT excluded)
+      list(APPEND found ${target})
+    endif()
+  endforeach()
+  get_property(subdirs DIRECTORY "${dir}" PROPERTY SUBDIRECTORIES)
+  foreach(sub IN LISTS subdirs)
+    _ws_collect_all_targets("${sub}" sub_found)
+    list(APPEND found ${sub_found})
+  endforeach()
+  set(${out} ${found} PARENT_SCOPE)
+endfunction()
+
+# Test executables (the ones catkin's `tests` target builds: gtests and rostest gtests) compile at
+# WS_TEST_OPTIMIZATION (-O1) instead of Release's -O3: their translation units are the harness (gtest,
+# ROS, Eigen in the checks), 428 of the cold build's 1160 compile CPU s, and -O1 cuts them by a
+# quarter (10 of the heaviest: 159 -> 122 CPU s; .ci/README.md). The libraries, nodes, nodelets and
+# benchmarks the tests run stay at -O3 (NDEBUG stays too), and the results do not depend on it (no
+# -ffast-math; x86-64 without -march: no FMA contraction). -DWS_TEST_OPTIMIZATION=-O3 builds them as before.
+set(WS_TEST_OPTIMIZATION "-O1" CACHE STRING "Optimisation flag for the test executables (after Release's -O3)")
+
+function(_ws_add_all_and_tests)
+  _ws_collect_all_targets("${CMAKE_SOURCE_DIR}" targets)
+  add_custom_target(ws_all_and_tests)
+  add_dependencies(ws_all_and_tests ${targets})
+  if(TARGET tests)
+    add_dependencies(ws_all_and_tests tests)
+    get_property(test_targets TARGET tests PROPERTY MANUALLY_ADDED_DEPENDENCIES)
+    foreach(target IN LISTS test_targets)
+      get_target_property(type ${target} TYPE)
+      if(type STREQUAL "EXECUTABLE" AND WS_TEST_OPTIMIZATION)
+        set_property(TARGET ${target} APPEND PROPERTY COMPILE_OPTIONS ${WS_TEST_OPTIMIZATION})
+      endif()
+    endforeach()
+  endif()
+endfunction()
+
+if(PROJECT_NAME STREQUAL "Project" AND CMAKE_CURRENT_SOURCE_DIR STREQUAL CMAKE_SOURCE_DIR)
+  cmake_language(DEFER CALL _ws_add_all_and_tests)
+endif()
+
 # ---- Tests ----------------------------------------------------------------------------------------
 # `make test` runs the tests with `ctest -j3 --resource-spec-file cmake/ctest_lanes.json`: three lanes
 # (most tests wait on ROS masters, nodes starting and simulated time, not on a core). Every test takes
