@@ -26,16 +26,16 @@ build: deps
 # stay busy to the end; if the build itself fails, make test stops as `make build` would, while a test
 # binary that does not compile is reported and the tests run. ctest runs two tests at a time, except
 # that tests sharing one resource (the loopback GigE camera port, a pipeline replayed in real time)
-# hold a RESOURCE_LOCK and run one after the other (cmake/workspace.cmake). Each test has its own
-# master, pty and files. Three lanes (ctest -j3 --resource-spec-file cmake/ctest_lanes.json)
-# saved about 40 s but look_away_recovery's overlay check then failed in 2 of 3 full runs
-# (.ci/README.md), so two it is.
+# hold a RESOURCE_LOCK and run one after the other, and that soak_short takes both of the two cpu
+# slots of cmake/ctest_cpu.json, so only short light tests run beside it (cmake/workspace.cmake).
+# Each test has its own master, pty and files. Three lanes (ctest -j3) saved about 40 s but
+# look_away_recovery's overlay check then failed in 2 of 3 full runs (.ci/README.md), so two it is.
 test: deps
 	@rm -rf $(WS)/build/test_results
 	@set -o pipefail; $(CATKIN) ws_all_and_tests 2>&1 | tee $(WS)/run_tests.log || \
 	  { $(CATKIN) > /dev/null 2>&1 || { echo "make test: the build failed (above)"; exit 1; }; \
 	    grep -E 'error|Error' $(WS)/run_tests.log | head -40; echo "make test: see $(WS)/run_tests.log"; }
-	@cd $(WS)/build && ctest -j2 -V >> $(WS)/run_tests.log 2>&1 || \
+	@cd $(WS)/build && ctest -j2 --resource-spec-file $(ROOT)/cmake/ctest_cpu.json -V >> $(WS)/run_tests.log 2>&1 || \
 	  { grep -E 'error|Error' $(WS)/run_tests.log | head -40; echo "make test: see $(WS)/run_tests.log"; }
 	@grep -E '^([0-9]+: )?(\[  (FAILED|PASSED) |\[ROSTEST\]|.*FAILURE)' $(WS)/run_tests.log || true
 	@bash $(ROOT)/scripts/test_summary.sh $(WS)/build/test_results

@@ -123,30 +123,36 @@ if(PROJECT_NAME STREQUAL "Project" AND CMAKE_CURRENT_SOURCE_DIR STREQUAL CMAKE_S
 endif()
 
 # ---- Tests ----------------------------------------------------------------------------------------
-# `make test` runs the tests with `ctest -j3 --resource-spec-file cmake/ctest_lanes.json`: three lanes
-# (most tests wait on ROS masters, nodes starting and simulated time, not on a core). Every test takes
-# one lane (RESOURCE_GROUPS "lanes:1"), a test holding the realtime lock takes two ("lanes:2"), so a
-# real-time pipeline still runs beside at most one other test, as with -j2 before. A test that holds a
-# shared resource names it in a RESOURCE_LOCK, and ctest never runs two tests holding the same lock at once:
+# `make test` runs the tests with `ctest -j2 --resource-spec-file cmake/ctest_cpu.json`: two at a time,
+# on two "cpu" slots. A test that holds a shared resource names it in a RESOURCE_LOCK, and ctest never
+# runs two tests holding the same lock at once:
 #   gige_loopback  arv-fake-gv-camera on 127.0.0.1, GVCP port 3956 (one camera per address)
 #   realtime       the whole graph replayed or simulated in real time, with rate, latency or accuracy
-#                  assertions that a second pipeline on the same 2 cores would disturb; the other lane
+#                  assertions that a second pipeline on the same 2 cores would disturb; the other slot
 #                  runs unit tests and small rostests meanwhile. (relaunch_replay and two_hosts replay
 #                  in real time too, but only wait for messages to arrive: no lock.)
-#   RUN_SERIAL     (not a lock: the test runs alone) soak_short, which runs the simulator at twice real
-#                  time and must lose no message: beside a CPU-bound unit test on 2 cores its probe
-#                  dropped 49 of 4480 frames. Alone it lost none in 3 of 4 runs on the shared machine
-#                  (once 244 of 4502 while other engineers' builds ran): it is load-sensitive anyway.
-# COST (about the seconds each takes) makes ctest start the long ones first, so the lanes end
+# CPU slots (RESOURCE_GROUPS "cpu:<n>", only with the resource file): every test takes one slot, except
+#   both_cpus      soak_short, which runs the simulator at twice real time and must lose no message. It
+#                  takes both slots, so no other test that takes a slot runs beside it (beside a CPU-bound
+#                  unit test, on the loaded shared machine, its probe dropped 49 of 4480 frames);
+#   light          short tests (a few seconds: small rostests of config loading and one nodelet, unit
+#                  tests under a few seconds) take none, so they run one at a time beside soak_short,
+#                  on the core it left idle when it ran alone (RUN_SERIAL, before; .ci/README.md).
+#                  Not light: anything on a pty or a camera, anything long or CPU-bound.
+# COST (about the seconds each takes) makes ctest start the long ones first, so the two slots end
 # together; ctest has no timing history on a fresh CI machine. Tests match by regular expression on
 # their ctest names (_ctest_<package>_<type>_<name>; rostests of the repository's test/ carry its path).
-# One rule a line: "<regex> <cost s> [<lock>,<lock>...|RUN_SERIAL]"; the first rule that matches applies.
+# One rule a line: "<regex> <cost s> [<word>,<word>...]", each word a lock, both_cpus, light or
+# RUN_SERIAL (the test runs alone); the first rule that matches applies. .ci/ctest_schedule.py reads
+# these rules to model ctest's schedule on a run's test times.
 set(_WS_TEST_RULES
   "aravis_camera_gtest_aravis_camera_test_fake_camera 30 gige_loopback"
   "aravis_camera_rostest_test_camera_nodelet 11 gige_loopback,realtime"
-  "ar_bringup_rostest_.*soak_short 90 RUN_SERIAL"
+  "ar_bringup_rostest_.*soak_short 90 realtime,both_cpus"
   "ar_bringup_rostest_replay_handheld 36 realtime"
   "ar_bringup_rostest_look_away_recovery 26 realtime"
+  # 24 s of bag replayed in real time (was set in ar_bringup's CMakeLists.txt, out of .ci/ctest_schedule.py's sight)
+  "ar_bringup_rostest_site_reacquire 40 realtime"
   "ar_bringup_rostest_.*rig_check_(sim|no_imu|no_camera) 22 realtime"
   "ar_bringup_rostest_diagnostics_loop 12 realtime"
   "ar_bringup_rostest_relaunch_replay 11"
@@ -161,33 +167,58 @@ set(_WS_TEST_RULES
   "cone_tracker_gtest_cone_tracker_node_test 15"
   "cone_tracker_rostest_test_nodelet_bad_input 13"
   "pose_ekf_gtest_pose_ekf_broad_test 10"
+  # Light (seconds alone, fresh clone; CPU used over that time, measured one at a time with /usr/bin/time):
+  # one nodelet or a config load under its own master (1.2-5.6 s, 0.5-0.9 of a core), a script's CLI,
+  # unit tests of under 3 s. Not imu_driver's pty tests (a 100 Hz stream on a pty) nor camera tests.
+  "ar_overlay_rostest_test_overlay_nodelet 0 light"           # 5.3 s, 0.48 core; _predicted 5.6 s, 0.58
+  "pose_ekf_rostest_test_(diagnostics_stay|nodelet_tf|load_config) 0 light"  # 5.5, 4.9, 3.0 s
+  "imu_driver_rostest_test_(launch_files|real_data|scripts_cli|load_config) 0 light"  # 5.4, 5.1, 4.1, 3.6 s
+  "ar_bringup_rostest_test_(rig_check|evaluation|probe_config) 0 light"  # 3.4, 2.9, 1.2 s: scripts and a config
+  "cone_tracker_rostest_test_evaluate_detections 0 light"     # 3.6 s
+  "ar_overlay_gtest_ar_overlay_test_core 0 light"             # 3.0 s
+  "pose_ekf_gtest_pose_ekf_(rig_sim_test|test|adapter_test) 0 light"  # 3.0, 2.3, 0.2 s
+  "rig_sim_gtest_rig_sim_test_(bags|validate_bag_cli) 0 light"  # 2.7, 0.6 s
+  "ar_overlay_rostest_test_(tracking_panel|ros_config) 0 light"  # 2.5, 1.5 s
+  "cone_tracker_gtest_cone_tracker_(tools_test|photos_test|pose_test) 0 light"  # 2.0, 1.7, 0.2 s
+  "rig_model_.*test 0 light"                                  # load_params 1.7, wall_diagnostics 1.9 s, gtests 0.1 s
+  "rig_sim_rostest_test_sim_params 0 light"                   # 1.3 s
+  "aravis_camera_(rostest_test_ros_config|gtest_aravis_camera_test_units) 0 light"  # 1.3, 0.04 s
+  "cone_tracker_roslaunch-check_launch 0 light"               # 0.8 s
+  "(ar_bringup_python_core_layers|ar_bringup_gtest|compressed_transport_gtest|pose_math_gtest|imu_driver_gtest_imu_driver_(ros_)?test$|ar_overlay_gtest_ar_overlay_test_panel_model) 0 light"  # each under 0.3 s
 )
 
 function(_ws_apply_test_rules)
   get_directory_property(tests TESTS)
   foreach(test IN LISTS tests)
+    set(cpus 1)
     foreach(rule IN LISTS _WS_TEST_RULES)
       string(REGEX MATCH "^([^ ]+) ([0-9]+) ?(.*)$" _ "${rule}")
       set(regex "${CMAKE_MATCH_1}")
       set(cost "${CMAKE_MATCH_2}")
-      set(locks "${CMAKE_MATCH_3}")
+      string(REPLACE "," ";" words "${CMAKE_MATCH_3}")
       if(test MATCHES "^_ctest_${regex}")
         set_tests_properties(${test} PROPERTIES COST ${cost})
-        if(locks STREQUAL "RUN_SERIAL")
-          set_tests_properties(${test} PROPERTIES RUN_SERIAL ON)
-        elseif(locks)
-          string(REPLACE "," ";" locks "${locks}")
+        set(locks)
+        foreach(word IN LISTS words)
+          if(word STREQUAL "RUN_SERIAL")
+            set_tests_properties(${test} PROPERTIES RUN_SERIAL ON)
+          elseif(word STREQUAL "both_cpus")
+            set(cpus 2)
+          elseif(word STREQUAL "light")
+            set(cpus 0)
+          else()
+            list(APPEND locks ${word})
+          endif()
+        endforeach()
+        if(locks)
           set_tests_properties(${test} PROPERTIES RESOURCE_LOCK "${locks}")
         endif()
         break()
       endif()
     endforeach()
-    # Lanes (cmake/ctest_lanes.json, used only when ctest is given the file): a real-time test takes two.
-    get_test_property(${test} RESOURCE_LOCK test_locks)
-    if(test_locks MATCHES "(^|;)realtime(;|$)")
-      set_tests_properties(${test} PROPERTIES RESOURCE_GROUPS "lanes:2")
-    else()
-      set_tests_properties(${test} PROPERTIES RESOURCE_GROUPS "lanes:1")
+    # CPU slots (cmake/ctest_cpu.json, used only when ctest is given the file).
+    if(cpus GREATER 0)
+      set_tests_properties(${test} PROPERTIES RESOURCE_GROUPS "cpu:${cpus}")
     endif()
   endforeach()
 endfunction()

@@ -2,7 +2,9 @@
 """Soak test node (test/soak_short.test): ~sim_seconds of simulated rig time through launch/sim.launch
 (IMU over the pty and imu_driver, tracker, EKF in one manager, faster than real time), then asserts:
 no message lost between the nodelets (ar_bringup.soak's balances), no NaN from the filter, no RSS
-growth beyond ~max_rss_growth_mb after the warm-up, and that it ran faster than real time."""
+growth beyond ~max_rss_growth_mb after the warm-up. How fast it ran (sim_s / wall_s) is printed with the
+figures, not asserted: a wall-clock figure depends on the machine's load (DESIGN.md: speed belongs in
+benchmarks); `make bench` reports it as BENCH system.soak_speed."""
 import json
 import math
 import unittest
@@ -21,10 +23,9 @@ class SoakTest(unittest.TestCase):
                          log=rospy.loginfo)
         print("SOAK_FIGURES " + json.dumps(cls.f, sort_keys=True))
 
-    def test_ran_long_and_fast(self):
+    def test_ran_long(self):
         self.assertGreaterEqual(self.f["sim_s"], 0.98 * rospy.get_param("~sim_seconds", 150.0),
                                 "the simulator did not get through its time: %s" % self.f)
-        self.assertGreater(self.f["speed"], rospy.get_param("~min_speed", 1.0), "not faster than real time")
 
     def test_no_message_lost(self):
         f = self.f
