@@ -1,7 +1,8 @@
 # Included after every project() of the workspace: the Makefile passes
 # -DCMAKE_PROJECT_INCLUDE=<this file> to catkin_make, so the packages' CMakeLists.txt need no line for it.
 # Two things live here, both for `make test` on CI's 2 cores (keep the whole run well under 15 minutes):
-#   1. build settings that cut the compile time (below, "Build"),
+#   1. build settings that cut the compile time (below, "Build": unity batches, the one target
+#      ws_all_and_tests that `make test` builds, the test executables' -O1),
 #   2. how ctest may run the tests two at a time (below, "Tests").
 # Measurements behind both: .ci/README.md.
 
@@ -97,7 +98,7 @@ endfunction()
 # Test executables (the ones catkin's `tests` target builds: gtests and rostest gtests) compile at
 # WS_TEST_OPTIMIZATION (-O1) instead of Release's -O3: their translation units are the harness (gtest,
 # ROS, Eigen in the checks), 428 of the cold build's 1160 compile CPU s, and -O1 cuts them by a
-# quarter (10 of the heaviest: 159 -> 122 CPU s; .ci/README.md). The libraries, nodes, nodelets and
+# quarter (13 of the heaviest: 208 -> 156 CPU s; .ci/README.md). The libraries, nodes, nodelets and
 # benchmarks the tests run stay at -O3 (NDEBUG stays too), and the results do not depend on it (no
 # -ffast-math; x86-64 without -march: no FMA contraction). -DWS_TEST_OPTIMIZATION=-O3 builds them as before.
 set(WS_TEST_OPTIMIZATION "-O1" CACHE STRING "Optimisation flag for the test executables (after Release's -O3)")
