@@ -231,6 +231,32 @@ TEST(Associate, ConesPredictedToOverlapAreLeftOut) {
   EXPECT_EQ(a.cone_of_detection[0], -1);
 }
 
+// After an outage the prediction is a metre off with a sigma to match, and may put two cones on top of each other
+// that the camera sees apart. That overlap is no more than the prior's spread: both stay candidates and get their
+// ids. Predicted as surely (the default prior's 5 cm and 2 degrees), the same overlap leaves both out.
+TEST(Associate, AnOverlapWithinThePredictionsSpreadLeavesNoConeOut) {
+  const auto layout = Asymmetric();
+  const Eigen::Vector3d b0 = layout[0].base_m, b1 = layout[1].base_m, target(0, 0, 0.3);
+  const Eigen::Vector3d in_line = b0 + 2.5 * (b0 - b1).normalized() + Eigen::Vector3d(0, 0, 1.0);
+  const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(b0 - b1).normalized();
+  const Eigen::Vector3d eye = in_line + 1.0 * across;  // the truth: cones 0 and 1 apart
+  const std::vector<ConeDetection> dets = Detect(layout, {0, 1}, eye, target);
+  // Their bases 71 px apart, each about 20 px wide.
+  ASSERT_GT(std::abs(dets[0].base_undist_px.x() - dets[1].base_undist_px.x()), 60.0);
+  pose_math::Pose pred = LookAt(eye, target);  // the gyros kept the orientation; the position drifted in line
+  pred.t = -(pose_math::RotationFromQuat(pred.q) * in_line);
+  EXPECT_EQ(Associate(dets, layout, pred).overlapping, (std::vector<int>{0, 1}));  // sure of it: left out
+  AssociationConfig outage;
+  outage.prediction_cov = Eigen::Matrix<double, 6, 6>::Zero();
+  outage.prediction_cov->diagonal() << Eigen::Vector3d::Constant(std::pow(0.2 * M_PI / 180.0, 2)),
+      Eigen::Vector3d::Constant(0.75 * 0.75);
+  const AssociationResult a = Associate(dets, layout, pred, outage);
+  EXPECT_TRUE(a.overlapping.empty());
+  EXPECT_EQ(a.ambiguous, 0);
+  EXPECT_FALSE(a.conflict);
+  EXPECT_EQ(a.cone_of_detection, (std::vector<int>{0, 1}));
+}
+
 TEST(Associate, ADistractorIsLeftOut) {
   const auto layout = Asymmetric();
   std::vector<ConeDetection> dets = Detect(layout, {1, 0});

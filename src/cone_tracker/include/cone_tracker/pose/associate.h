@@ -47,7 +47,10 @@ struct AssociationConfig {
   double ambiguity_margin = 9.0;    // a detection keeps its cone only if every other cone for it costs this much more
   double outside_frac =
       0.5;  // a cone predicted farther outside the image than this fraction of its size is no candidate
-  double min_depth_m = 0.1;         // a cone point nearer than this (or behind the camera) is no candidate
+  double min_depth_m = 0.1;  // a cone point nearer than this (or behind the camera) is no candidate
+  // Cones predicted to overlap by more than this many sigmas of their predicted offset are no candidates (fewer: they
+  // are, but no evidence of a conflict).
+  double overlap_sigmas = 2.0;
   size_t max_assignments = 200000;  // enumeration bound; beyond it nothing is associated
   std::string Validate() const;
 };
@@ -62,9 +65,9 @@ struct AssociationResult {
   std::vector<int> cone_of_detection;  // layout index per detection, -1: none
   std::vector<double> d2;  // per detection: chi2 of its peak and base against its cone's prediction (NaN: none)
   std::vector<ConeCandidate> candidates;  // layout cones in front of the camera, near the image, apart
-  std::vector<int> overlapping;           // layout cones left out: predicted to overlap another in the image
-  int ambiguous = 0;                      // detections left out: another cone fitted them nearly as well
-  bool too_many = false;                  // the enumeration bound was reached: nothing associated
+  std::vector<int> overlapping;  // layout cones left out: predicted to overlap another in the image (overlap_sigmas)
+  int ambiguous = 0;             // detections left out: another cone fitted them nearly as well
+  bool too_many = false;         // the enumeration bound was reached: nothing associated
   // A detection left unmatched lies on an unmatched candidate's predicted base (chi2 of
   // the base point below the 2-dof gate) but does not fit its shape: the
   // prediction is off by a swap of cones, or the segmentation by a cut cone;
