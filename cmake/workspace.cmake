@@ -99,8 +99,9 @@ endfunction()
 # WS_TEST_OPTIMIZATION (-O1) instead of Release's -O3: their translation units are the harness (gtest,
 # ROS, Eigen in the checks), 428 of the cold build's 1160 compile CPU s, and -O1 cuts them by a
 # quarter (13 of the heaviest: 208 -> 156 CPU s; .ci/README.md). The libraries, nodes, nodelets and
-# benchmarks the tests run stay at -O3 (NDEBUG stays too), and the results do not depend on it (no
-# -ffast-math; x86-64 without -march: no FMA contraction). -DWS_TEST_OPTIMIZATION=-O3 builds them as before.
+# benchmarks the tests run stay at -O3 (NDEBUG stays too). Only the optimisation level changes: IEEE
+# semantics (NaN checks included) and the target architecture stay those of every other target, so the
+# results do not depend on it. -DWS_TEST_OPTIMIZATION=-O3 builds them as before.
 set(WS_TEST_OPTIMIZATION "-O1" CACHE STRING "Optimisation flag for the test executables (after Release's -O3)")
 
 function(_ws_add_all_and_tests)
