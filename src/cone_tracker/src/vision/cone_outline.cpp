@@ -178,9 +178,16 @@ OutlineFit FitConeOutline(const std::vector<Run>& runs, const Eigen::Vector2d& p
   const Eigen::Vector2d apex = apex_h.head<2>() / apex_h.z();
   if (!apex.allFinite()) return out.why = "no apex", out;
   // The binary tip ends where the silhouette gets narrower than about a
-  // pixel, short of the apex; no cone pixel lies beyond the apex.
+  // pixel, short of the apex; no cone pixel lies beyond the apex. The tip is
+  // the blob's farthest pixel toward the peak, not the line search's end: a
+  // cone seen obliquely from above leans in the image (more so toward its
+  // side edges), its one-pixel-wide tip leaves the blob's principal axis, and
+  // the line search stops up to ~12 px short of it.
+  double tip = 0.0;
+  for (const auto* side : {&left, &right})
+    for (const Eigen::Vector2d& p : *side) tip = std::min(tip, (p - peak0).dot(dir0));
   const double tan_half = std::tan(0.5 * std::abs(std::atan(fl.b) - std::atan(fr.b)));
-  const double along = (apex - peak0).dot(dir0),
+  const double along = (apex - peak0).dot(dir0) - tip,
                lateral = std::abs((apex - peak0).dot(Eigen::Vector2d(dir0.y(), -dir0.x())));
   if (along > 1.5 || along < -(3.0 + 1.0 / std::max(tan_half, 0.02)) || lateral > 3.0 + config.max_apex_gap_frac * h0)
     return out.why = "apex does not fit the tip", out;
