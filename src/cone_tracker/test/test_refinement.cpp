@@ -77,22 +77,25 @@ rig_sim::TruePose RandomView(std::mt19937* rng) {
   return p;
 }
 
-void Score(const SimFrame& f, const rig_sim::Scene& scene, const SegmentationResult& r, Errors* e) {
-  for (size_t i : Eligible(f, scene)) {
-    const TruthCone& t = f.truth[i];
-    const ConeDetection* match = nullptr;
-    for (const ConeDetection& d : r.cones)
-      if ((d.peak_px - t.peak_px).norm() < 15.0 &&
-          (!match || (d.peak_px - t.peak_px).norm() < (match->peak_px - t.peak_px).norm()))
-        match = &d;
-    if (!match) {
-      ++e->missed;
-      continue;
-    }
-    const double ep = (match->peak_px - t.peak_px).norm(), eb = (match->base_px - t.base_px).norm();
-    e->peak_ss += ep * ep, e->base_ss += eb * eb, ++e->n;
-    e->peak_max = std::max(e->peak_max, ep), e->base_max = std::max(e->base_max, eb);
+// The accepted detection nearest the truth cone's peak (within 15 px) into *e; false when there is none.
+bool ScoreCone(const TruthCone& t, const SegmentationResult& r, Errors* e) {
+  const ConeDetection* match = nullptr;
+  for (const ConeDetection& d : r.cones)
+    if ((d.peak_px - t.peak_px).norm() < 15.0 &&
+        (!match || (d.peak_px - t.peak_px).norm() < (match->peak_px - t.peak_px).norm()))
+      match = &d;
+  if (!match) {
+    ++e->missed;
+    return false;
   }
+  const double ep = (match->peak_px - t.peak_px).norm(), eb = (match->base_px - t.base_px).norm();
+  e->peak_ss += ep * ep, e->base_ss += eb * eb, ++e->n;
+  e->peak_max = std::max(e->peak_max, ep), e->base_max = std::max(e->base_max, eb);
+  return true;
+}
+
+void Score(const SimFrame& f, const rig_sim::Scene& scene, const SegmentationResult& r, Errors* e) {
+  for (size_t i : Eligible(f, scene)) ScoreCone(f.truth[i], r, e);
 }
 
 }  // namespace
@@ -164,9 +167,7 @@ TEST(Refinement, ObliqueConeNearTheSideEdgeKeepsItsOutline) {
   scene.cones = {rig_sim::MakeCone({1.00, 0.00, 0.0}, 0.71, rig_sim::ConeStyle::kRoad),
                  rig_sim::MakeCone({-0.40, 0.85, 0.0}, 0.71, rig_sim::ConeStyle::kRoad),
                  rig_sim::MakeCone({-0.60, -0.85, 0.0}, 0.46, rig_sim::ConeStyle::kRoad)};
-  CameraModel cam = rig_model::ThesisCamera();  // at half resolution, as in the evaluations
-  cam.width_px /= 2, cam.height_px /= 2, cam.fx_px /= 2, cam.fy_px /= 2;
-  cam.cx_px = (cam.cx_px + 0.5) / 2 - 0.5, cam.cy_px = (cam.cy_px + 0.5) / 2 - 0.5;
+  const CameraModel cam = rig_model::ThesisCamera().Scaled(0.5);  // 512x384, as in the evaluations
   const Eigen::Quaterniond q(0.5183796145065686, -0.7513128548242933, 0.3625856676897248, -0.18799788037578563);
   const Eigen::Vector3d eye(-1.5081214203836784, 0.6512489589786068, 1.045481526972052);
   Segmenter seg{SegmenterConfig()};
@@ -183,18 +184,9 @@ TEST(Refinement, ObliqueConeNearTheSideEdgeKeepsItsOutline) {
     ++views;
     const SegmentationResult r = seg.Process(View(f), cam);
     ASSERT_TRUE(r.ok);
-    const ConeDetection* match = nullptr;
-    for (const ConeDetection& d : r.cones)
-      if ((d.peak_px - f.truth[1].peak_px).norm() < 15.0) match = &d;
-    if (!match) {
-      ++e.missed;
+    if (!ScoreCone(f.truth[1], r, &e))
       ADD_FAILURE() << "turned " << deg << " deg: the cone with its peak at " << f.truth[1].peak_px.transpose()
                     << " px was not accepted";
-      continue;
-    }
-    const double ep = (match->peak_px - f.truth[1].peak_px).norm(), eb = (match->base_px - f.truth[1].base_px).norm();
-    e.peak_ss += ep * ep, e.base_ss += eb * eb, ++e.n;
-    e.peak_max = std::max(e.peak_max, ep), e.base_max = std::max(e.base_max, eb);
   }
   std::printf("oblique: views %d missed %d  peak RMS %.2f px (max %.2f)  base RMS %.2f px (max %.2f)\n", views,
               e.missed, e.PeakRms(), e.peak_max, e.BaseRms(), e.base_max);
