@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -278,6 +279,90 @@ TEST(Associate, ThreeConesAgreeWithThePosePathCorrespondence) {
     ASSERT_TRUE(cp.ok) << cp.error;
     EXPECT_EQ(cp.cone_of_detection, (std::vector<int>{2, 0, 1}));
     EXPECT_EQ(Associate(dets, layout, pred).cone_of_detection, cp.cone_of_detection);
+  }
+}
+
+// Negative information (AssociationConfig::miss_cost, rig_model/cone_view.h). rig_sim's look_away seed 8 at
+// 512x384, 12.833 s: the first frame after the 7 s outage, pose_ekf 0.29 m off with a position sigma of about
+// 0.5 m (its recorded pose and covariance), one cone in the image: the tall cone 1 near the right edge. Read as
+// the short cone 2, 0.7 m nearer and lower (fit 3.1 against 0.2), it is ambiguous, and three frames went
+// unfused. But that reading puts cone 1 itself in the middle of the image, where nothing was detected: with the
+// cost of a miss it is no rival. And a miss alone never makes a wrong cone win: with cone 0 hidden (not
+// detected) beside cone 1, cone 1's own reading pays the miss and is at worst ambiguous, never renamed.
+TEST(Associate, AConeAReadingPutsInPlainViewUnseenCostsThatReadingAMiss) {
+  const auto layout = Asymmetric();
+  CameraModel cam;
+  cam.width_px = 512, cam.height_px = 384, cam.fx_px = 385, cam.fy_px = 388, cam.cx_px = 255.5, cam.cy_px = 191.5;
+  const auto pose = [](const Eigen::Vector3d& p, const Eigen::Quaterniond& q_cones_camera) {
+    pose_math::Pose T;  // T_camera_cones
+    const Eigen::Matrix3d R = q_cones_camera.toRotationMatrix().transpose();
+    T.q = pose_math::QuatFromRotation(R), T.t = -(R * p);
+    return T;
+  };
+  const Eigen::Vector3d eye(-2.1401, -2.3350, 1.3767);
+  const pose_math::Pose truth = pose(eye, Eigen::Quaterniond(0.57329, -0.81781, -0.00050, 0.05031).normalized());
+  const Eigen::Vector3d pred_eye(-1.8812, -2.2713, 1.2700);
+  const Eigen::Quaterniond q_pred = Eigen::Quaterniond(0.57342, -0.81771, 0.00361, 0.05030).normalized();
+  Eigen::Matrix<double, 6, 6> cov_ros = Eigen::Matrix<double, 6, 6>::Zero();  // pose_ekf/pose's, rounded
+  cov_ros.topLeftCorner<3, 3>() << 0.2884, 0.0452, 0.0187, 0.0452, 0.2723, -0.0380, 0.0187, -0.0380, 0.2126;
+  cov_ros.bottomRightCorner<3, 3>() << 5.98e-6, 3.6e-7, 8.0e-7, 3.6e-7, 5.46e-6, 2.48e-6, 8.0e-7, 2.48e-6, 1.307e-5;
+  const pose_math::Pose pred = pose(pred_eye, q_pred);
+  AssociationConfig cfg;  // as cone_tracker's node: the filter's covariance plus 2 degrees and 5 cm
+  cfg.prediction_cov = AssociationPrior(pose_math::Quat(q_pred.w(), q_pred.x(), q_pred.y(), q_pred.z()), cov_ros);
+  cfg.prediction_cov->diagonal() +=
+      (Eigen::Matrix<double, 6, 1>() << Eigen::Vector3d::Constant(std::pow(2.0 * M_PI / 180.0, 2)),
+       Eigen::Vector3d::Constant(0.05 * 0.05))
+          .finished();
+  // Cone `id`'s peak, mid and base as the camera T at `from` sees them (exactly).
+  const auto seen = [&](const pose_math::Pose& T, const Eigen::Vector3d& from, int id) {
+    const auto p = CorrectedModelPoints(layout[size_t(id)], from);
+    ConePoints2d d;
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Vector3d c = pose_math::Transform(T, p[size_t(i)]);
+      d[size_t(i)] = Eigen::Vector2d(cam.fx_px * c.x() / c.z() + cam.cx_px, cam.fy_px * c.y() / c.z() + cam.cy_px);
+    }
+    return d;
+  };
+  const auto associate = [&](const std::vector<ConePoints2d>& dets, double miss_cost) {
+    std::vector<std::array<Eigen::Matrix2d, 3>> cov;
+    for (const ConePoints2d& d : dets) {
+      const double h = (d[0] - d[2]).norm();
+      cov.push_back(PointCovariances(d, h * h * layout[1].tau, cfg.sigma_px));
+    }
+    AssociationConfig c = cfg;
+    c.miss_cost = miss_cost;
+    return AssociateCones(dets, cov, layout.size(), LayoutSeenFrom(layout), cam, pred, c);
+  };
+  const ConePoints2d cone1 = seen(truth, eye, 1);
+  ASSERT_GT(cone1[0].x(), 400.0) << "cone 1 near the right edge, as in the recording (503, 120)";
+  const AssociationResult without = associate({cone1}, 0.0);
+  EXPECT_EQ(without.cone_of_detection, (std::vector<int>{-1}));
+  EXPECT_EQ(without.ambiguous, 1);
+  const AssociationResult with = associate({cone1}, 7.0);  // rig_sim's association_miss_cost
+  EXPECT_EQ(with.cone_of_detection, (std::vector<int>{1}));
+  EXPECT_EQ(with.misses, 0);
+  std::printf("[ miss ] look_away seed 8, 12.833 s: cone 1 alone, without misses %s, with misses cone %d (cost %.2f)\n",
+              without.ambiguous ? "ambiguous" : "associated", with.cone_of_detection[0], with.cost);
+  // The safety of a miss: from a pose that sees cones 0 and 1 apart, cone 0 undetected (hidden by a person).
+  const Eigen::Vector3d eye2(2.8, 2.6, 1.3), target2(0.3, 0.4, 0.3);
+  const pose_math::Pose both = LookAt(eye2, target2);
+  std::vector<std::optional<rig_model::ImageBox>> boxes;
+  for (int id = 0; id < 3; ++id) {
+    const ConePoints2d d = seen(both, eye2, id);
+    boxes.push_back(rig_model::SilhouetteBox(d[0], d[2], layout[size_t(id)].tau * (d[0] - d[2]).norm()));
+  }
+  ASSERT_TRUE(rig_model::InPlainView(boxes, cam.width_px, cam.height_px)[0]) << "cone 0 in plain view";
+  for (double sigma_m : {0.05, 0.5, 1.5}) {
+    AssociationConfig c = cfg;
+    c.prediction_cov.reset();
+    c.prediction_sigma_m = sigma_m;
+    c.miss_cost = 7.0;
+    const ConePoints2d d1 = seen(both, eye2, 1);
+    const double h = (d1[0] - d1[2]).norm();
+    const std::vector<std::array<Eigen::Matrix2d, 3>> cov = {PointCovariances(d1, h * h * layout[1].tau, c.sigma_px)};
+    const AssociationResult a = AssociateCones({d1}, cov, layout.size(), LayoutSeenFrom(layout), cam, both, c);
+    EXPECT_TRUE(a.cone_of_detection[0] == 1 || a.cone_of_detection[0] == -1)
+        << "sigma " << sigma_m << " m: cone 1 named cone " << a.cone_of_detection[0];
   }
 }
 

@@ -313,6 +313,69 @@ TEST(ConeGates, AFarRivalIsFoundByTheIteratedFit) {
   EXPECT_EQ(r.ambiguity_screened, 1);  // ConeFitLowerBound ruled it out without fitting it
 }
 
+// Negative information (EkfConfig::cone_miss_cost, rig_model/cone_view.h). rig_sim's look_away seed 8 at
+// 512x384, 12.833 s, the first frame after its 7 s outage: pose_ekf 0.29 m off (its recorded pose and position
+// covariance), the tall cone 1 alone near the right edge of the image. Read as the short cone 2, 0.7 m nearer and
+// lower, it fits nearly as well: ambiguous, not fused. But that reading's pose puts cone 1 itself in plain view,
+// where the frame has no cone: with the cost of that miss the lone cone is fused. Without the image size (an
+// older tracker) there is no negative information.
+TEST(ConeGates, ARivalThatPutsAnUnseenConeInPlainViewPaysAMiss) {
+  std::vector<pose_ekf::ConeGeometry> layout(3);  // rig_model's asymmetric.yaml
+  layout[0].base_m = {1.00, 0.00, 0}, layout[1].base_m = {-0.40, 0.85, 0}, layout[2].base_m = {-0.60, -0.85, 0};
+  layout[2].height_m = 0.46;
+  const pose_ekf::PinholeIntrinsics K{385.0, 388.0, 255.5, 191.5};
+  pose_math::Pose truth, predicted;  // T_cones_camera
+  truth.q = pose_math::Quat(0.57329, -0.81781, -0.00050, 0.05031).normalized(), truth.t = {-2.1401, -2.3350, 1.3767};
+  predicted.q = pose_math::Quat(0.57342, -0.81771, 0.00361, 0.05030).normalized();
+  predicted.t = {-1.8812, -2.2713, 1.2700};
+  Eigen::Matrix3d position_cov;  // pose_ekf/pose's, rounded
+  position_cov << 0.2884, 0.0452, 0.0187, 0.0452, 0.2723, -0.0380, 0.0187, -0.0380, 0.2126;
+  const auto run = [&](double miss_cost, bool image_size, ConeFrameResult* r) {
+    EkfConfig c = ConeSimConfig();
+    c.cone_miss_cost = miss_cost;
+    EkfCore ekf{c};
+    EXPECT_TRUE(ekf.Initialize(Camera(0.0, predicted, 0.0024, 0.01)));
+    pose_ekf::FilterState s = ekf.state();
+    s.P.block<3, 3>(pose_ekf::kP, pose_ekf::kP) = position_cov;
+    ekf.Restore(s);
+    std::mt19937 rng(11);
+    ConeFrame f = ObserveCones(0.0, truth, layout, {1}, K, 0.3, &rng);
+    f.layout = layout;
+    if (image_size) f.width_px = 512, f.height_px = 384;
+    const UpdateResult u = ekf.UpdateCones(f, r);
+    std::printf(
+        "[ cones ] look_away seed 8, 12.833 s, miss cost %.0f%s: own %.2f (%d missed), rival %.2f (cone %d, %d "
+        "missed) -> %s\n",
+        miss_cost, image_size ? "" : ", no image size", r->ambiguity_own_chi2, r->ambiguity_own_missed,
+        r->ambiguity_rival_chi2, r->ambiguity_rival_id, r->ambiguity_rival_missed, ToString(u));
+    return u;
+  };
+  ConeFrameResult r;
+  EXPECT_EQ(run(0.0, true, &r), UpdateResult::kGated);  // off: ambiguous
+  EXPECT_EQ(r.ambiguous, 1);
+  EXPECT_EQ(r.ambiguity_rival_id, 2);
+  EXPECT_EQ(run(7.0, true, &r), UpdateResult::kApplied);  // pose_ekf_rig_sim.yaml's cone_miss_cost
+  EXPECT_EQ(r.ambiguous, 0);
+  EXPECT_EQ(r.ambiguity_own_missed, 0);
+  EXPECT_EQ(r.ambiguity_rival_missed, 1);                // cone 1, from the pose that reads it as cone 2
+  EXPECT_EQ(run(7.0, false, &r), UpdateResult::kGated);  // no image size: no negative information
+  EXPECT_EQ(r.ambiguity_rival_missed, 0);
+  // The truth puts no cone in plain view, seen or not: cone 1 is within the margin of the right edge (a cone
+  // there may be cut, and the detector may refuse it), cones 0 and 2 are outside the image. Turned 20 degrees
+  // toward them, cones 1 and 2 are in plain view, each a miss unless it was seen.
+  StateVector x = Tight(ConeSimConfig(), 0.0).state().x;
+  x.segment<4>(pose_ekf::kQ) = truth.q, x.segment<3>(pose_ekf::kP) = truth.t;
+  ConeFrame f;
+  f.K = K, f.layout = layout, f.width_px = 512, f.height_px = 384;
+  EXPECT_EQ(pose_ekf::ConesMissedAt(x, f, {}), 0);
+  const Eigen::Matrix3d turned =
+      pose_math::RotationFromQuat(truth.q) * Eigen::AngleAxisd(20.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).matrix();
+  x.segment<4>(pose_ekf::kQ) = pose_math::QuatFromRotation(turned);
+  EXPECT_EQ(pose_ekf::ConesMissedAt(x, f, {}), 2);
+  EXPECT_EQ(pose_ekf::ConesMissedAt(x, f, {1}), 1);
+  EXPECT_EQ(pose_ekf::ConesMissedAt(x, f, {1, 2}), 0);
+}
+
 // ConeFitCost: with 0 iterations the first-order statistic yᵀ S⁻¹ y, and iterated the same figure where
 // h is nearly linear over the prior's range (small P). With the camera 0.5 m beside the prediction at a
 // position sigma of 0.5 m, the fit is at least as good as the truth itself (prior term 1 plus the

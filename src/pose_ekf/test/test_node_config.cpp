@@ -83,6 +83,7 @@ TEST(NodeConfig, TheTableHasEveryParameterTheLoaderRead) {
                                        "reacquire_min_cones",
                                        "cone_ambiguity_margin",
                                        "cone_ambiguity_iterations",
+                                       "cone_miss_cost",
                                        "cone_update_iterations",
                                        "layout_file",
                                        "model_lever_arm",

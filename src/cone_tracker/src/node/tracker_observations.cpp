@@ -38,6 +38,7 @@ void TrackerAdapter::FillObservations(const sensor_msgs::Image& im, const std::o
     a.sigma_px = config_.pose.sigma_px;
     a.gate_probability = config_.pose.chi2_probability;
     a.ambiguity_margin = config_.association_margin;
+    a.miss_cost = config_.association_miss_cost;
     a.prediction_sigma_rad = config_.prediction_sigma_deg * M_PI / 180.0;
     if (pred_cov_ros) {
       // pose_ekf's own covariance, plus the prediction's error beyond it (prediction_sigma_*).
@@ -84,6 +85,7 @@ void TrackerAdapter::FillObservations(const sensor_msgs::Image& im, const std::o
   msg->header.stamp = im.header.stamp;
   msg->header.frame_id = im.header.frame_id.empty() ? config_.camera_frame : im.header.frame_id;
   msg->fx = camera_.fx_px, msg->fy = camera_.fy_px, msg->cx = camera_.cx_px, msg->cy = camera_.cy_px;
+  msg->width = static_cast<uint32_t>(camera_.width_px), msg->height = static_cast<uint32_t>(camera_.height_px);
   for (size_t d = 0; d < dets.size() && d < ids.size(); ++d) {
     if (ids[d] < 0) continue;
     ConeObservation o;

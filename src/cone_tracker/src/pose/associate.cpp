@@ -49,6 +49,13 @@ Eigen::Matrix3d Exp(const Eigen::Vector3d& v) {
   return pose_math::RotationFromQuat(pose_math::QuatFromRotationVector(v));
 }
 
+// A layout cone's silhouette in the image (rig_model::SilhouetteBox): the base point is the base radius off the
+// axis (3.18), its horizontal offset from the peak the half-width.
+rig_model::ImageBox Silhouette(const ConePoints3d& p, const Eigen::Vector2d& peak_px, const Eigen::Vector2d& base_px,
+                               double base_depth_m, const CameraModel& cam) {
+  return rig_model::SilhouetteBox(peak_px, base_px, cam.fx_px * (p[2] - p[0]).head<2>().norm() / base_depth_m);
+}
+
 Vector6d Stack(const ConePoints2d& d) {
   Vector6d v;
   v << d[0], d[1], d[2];
@@ -66,6 +73,9 @@ std::string AssociationConfig::Validate() const {
   if (!(outside_frac >= 0.0)) return "outside_frac must be >= 0";
   if (!(min_depth_m > 0.0)) return "min_depth_m must be > 0";
   if (!(overlap_sigmas >= 0.0)) return "overlap_sigmas must be >= 0";
+  if (!(miss_cost >= 0.0)) return "miss_cost must be >= 0";
+  if (!(plain_view.margin_px >= 0.0 && plain_view.min_height_px >= 0.0))
+    return "plain_view margin_px and min_height_px must be >= 0";
   return "";
 }
 
@@ -110,18 +120,14 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
     prior.diagonal() << Eigen::Vector3d::Constant(cfg.prediction_sigma_rad * cfg.prediction_sigma_rad),
         Eigen::Vector3d::Constant(cfg.prediction_sigma_m * cfg.prediction_sigma_m);
   }
-  std::vector<Eigen::Vector4d> boxes;  // predicted silhouette: u_min, v_min, u_max, v_max
+  std::vector<rig_model::ImageBox> boxes;  // predicted silhouettes
   for (size_t c = 0; c < num_cones; ++c) {
     ConeCandidate k;
     k.cone = int(c);
     const ConePoints3d p = model(c, eye);
     if (!ProjectCone(p, R, eye, cam, cfg, &k)) continue;
     out.candidates.push_back(k);
-    // The base point is the base radius off the axis (3.18): the half-width.
-    const double half_px = cam.fx_px * (p[2] - p[0]).head<2>().norm() / (R * (p[2] - eye)).z();
-    const Eigen::Vector2d peak = k.predicted_px.head<2>(), base = k.predicted_px.tail<2>();
-    boxes.emplace_back(std::min(peak.x(), base.x()) - half_px, std::min(peak.y(), base.y()),
-                       std::max(peak.x(), base.x()) + half_px, std::max(peak.y(), base.y()));
+    boxes.push_back(Silhouette(p, k.predicted_px.head<2>(), k.predicted_px.tail<2>(), (R * (p[2] - eye)).z(), cam));
   }
   // Cones predicted to overlap in the image are left out: the segmentation
   // merges them into one blob or cuts the far one, whose points fit neither.
@@ -137,8 +143,8 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
   std::vector<bool> overlaps(out.candidates.size(), false), maybe_merged(out.candidates.size(), false);
   for (size_t i = 0; i < boxes.size(); ++i)
     for (size_t j = i + 1; j < boxes.size(); ++j) {
-      const double du = std::min(boxes[i][2], boxes[j][2]) - std::max(boxes[i][0], boxes[j][0]);
-      const double dv = std::min(boxes[i][3], boxes[j][3]) - std::max(boxes[i][1], boxes[j][1]);
+      const double du = std::min(boxes[i].u_max, boxes[j].u_max) - std::max(boxes[i].u_min, boxes[j].u_min);
+      const double dv = std::min(boxes[i].v_max, boxes[j].v_max) - std::max(boxes[i].v_min, boxes[j].v_min);
       if (!(du > 0.0 && dv > 0.0)) continue;
       const Eigen::Matrix<double, 2, 6> J_apart =
           out.candidates[i].jacobian.bottomRows<2>() - out.candidates[j].jacobian.bottomRows<2>();
@@ -253,6 +259,32 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
   struct Scored {
     std::vector<int> a;  // candidate index per detection, -1 none
     Fit fit;
+    int misses = 0;
+  };
+  // The layout cones an assignment leaves unmatched that its fitted pose puts in plain view: every
+  // layout cone, not only the candidates (the fit may move one into the image), projected unclipped.
+  const auto misses_at = [&](const Vector6d& x, const std::vector<int>& a) {
+    if (!(cfg.miss_cost > 0.0)) return 0;
+    const Eigen::Matrix3d Rx = Exp(x.head<3>()) * R;
+    const Eigen::Vector3d ex = eye + x.tail<3>();
+    std::vector<std::optional<rig_model::ImageBox>> boxes(num_cones);
+    for (size_t k = 0; k < num_cones; ++k) {
+      const ConePoints3d p = model(k, ex);
+      const Eigen::Vector3d peak = Rx * (p[0] - ex), base = Rx * (p[2] - ex);
+      if (!(peak.z() > cfg.min_depth_m && base.z() > cfg.min_depth_m)) continue;
+      const auto px = [&](const Eigen::Vector3d& c) {
+        return Eigen::Vector2d(cam.fx_px * c.x() / c.z() + cam.cx_px, cam.fy_px * c.y() / c.z() + cam.cy_px);
+      };
+      boxes[k] = Silhouette(p, px(peak), px(base), base.z(), cam);
+    }
+    const std::vector<bool> plain = rig_model::InPlainView(boxes, cam.width_px, cam.height_px, cfg.plain_view);
+    int n = 0;
+    for (size_t k = 0; k < num_cones; ++k) {
+      const bool matched =
+          std::any_of(a.begin(), a.end(), [&](int c) { return c >= 0 && out.candidates[size_t(c)].cone == int(k); });
+      n += plain[k] && !matched;
+    }
+    return n;
   };
   std::vector<Scored> all;
   std::vector<int> cur(nd, -1);
@@ -268,9 +300,10 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
       return;
     }
     if (d == nd) {
-      all.push_back({cur, partial});
-      all.back().fit.cost = lower;
-      best_cost = std::min(best_cost, lower);
+      const int misses = misses_at(partial.x, cur);
+      all.push_back({cur, partial, misses});
+      all.back().fit.cost = lower + cfg.miss_cost * misses;
+      best_cost = std::min(best_cost, all.back().fit.cost);
       return;
     }
     for (size_t c : order[d]) {
@@ -291,6 +324,7 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
   const auto best = std::min_element(all.begin(), all.end(),
                                      [](const Scored& x, const Scored& y) { return x.fit.cost < y.fit.cost; });
   out.cost = best->fit.cost;
+  out.misses = best->misses;
   const double gate2 = boost::math::quantile(boost::math::chi_squared(2), cfg.gate_probability);
   for (size_t d = 0; d < nd && !out.conflict; ++d) {
     if (best->a[d] >= 0) continue;

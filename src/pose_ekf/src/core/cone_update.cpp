@@ -4,12 +4,14 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 
 #include <boost/math/distributions/chi_squared.hpp>
 
 #include "pose_ekf/core/cone_measurement.h"
 #include "pose_ekf/core/ekf_core.h"
 #include "pose_math/quaternion.h"
+#include "rig_model/cone_view.h"
 #include "rig_model/layout.h"
 
 namespace pose_ekf {
@@ -128,7 +130,7 @@ ConeVector ConePixels(const ConeObservation& o) {
 // plus the linearised pixel term is x0 + P Hᵀ S⁻¹ (z - h - H (x0 - x)). Every iterate is x0 + P a, so the
 // prior term is aᵀ P a, with no inverse of P (whose quaternion block is nearly singular).
 double ConeFitCost(const StateVector& x0, const StateMatrix& P, const ConeGeometry& cone, const PinholeIntrinsics& K,
-                   const ConeVector& z, const ConeMatrix& R, int iterations) {
+                   const ConeVector& z, const ConeMatrix& R, int iterations, StateVector* x_fit) {
   // h reads q and p only, so H and a = Hᵀ w live on those 7 states: the steps are 7-dimensional.
   constexpr int kN = 7;
   using Vec = Eigen::Matrix<double, kN, 1>;
@@ -152,6 +154,7 @@ double ConeFitCost(const StateVector& x0, const StateMatrix& P, const ConeGeomet
     return a.dot(P7 * a) + r.dot(R_ldlt.solve(r));
   };
   Vec a = Vec::Zero();
+  if (x_fit) *x_fit = x0;
   double J = cost(a);
   if (!std::isfinite(J)) return kInf;
   for (int it = 0; it < std::max(iterations, 1); ++it) {
@@ -180,7 +183,24 @@ double ConeFitCost(const StateVector& x0, const StateMatrix& P, const ConeGeomet
     J = J_new;
     if (converged) break;
   }
+  if (x_fit) *x_fit = at(a);
   return J;
+}
+
+int ConesMissedAt(const StateVector& x, const ConeFrame& f, const std::vector<int>& seen) {
+  if (!(f.width_px > 0.0 && f.height_px > 0.0)) return 0;
+  std::vector<std::optional<rig_model::ImageBox>> boxes(f.layout.size());
+  ConeVector h;
+  for (size_t k = 0; k < f.layout.size(); ++k) {
+    if (!ProjectCone(x, f.layout[k], f.K, &h, nullptr)) continue;
+    const Eigen::Vector2d peak = h.segment<2>(0), base = h.segment<2>(2);
+    boxes[k] = rig_model::SilhouetteBox(peak, base, f.layout[k].tau * (peak - base).norm());
+  }
+  const std::vector<bool> plain = rig_model::InPlainView(boxes, f.width_px, f.height_px);
+  int missed = 0;
+  for (size_t k = 0; k < f.layout.size(); ++k)
+    missed += plain[k] && std::find(seen.begin(), seen.end(), static_cast<int>(k)) == seen.end();
+  return missed;
 }
 
 // The iterated EKF update of one cone: the update from the prior x0 linearised at x_i takes the residual
@@ -326,8 +346,26 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
     const ConeVector z = ConePixels(o);
     const ConeMatrix Rn = ConeCovariance(o);
     const int iterations = config_.cone_ambiguity_iterations;
-    res.ambiguity_own_chi2 =
-        iterations > 0 ? ConeFitCost(prior.x, prior.P, o.cone, f.K, z, Rn, iterations) : d2[static_cast<size_t>(i)];
+    // Negative information (iterated fits only: first order has no fitted pose): each reading also pays for the
+    // layout cones its pose puts in plain view that the frame does not have (its other cones were seen, whatever
+    // they are).
+    const bool negative = iterations > 0 && config_.cone_miss_cost > 0.0 && f.width_px > 0.0 && f.height_px > 0.0;
+    std::vector<int> seen;
+    for (size_t k = 0; k < f.cones.size(); ++k)
+      if (static_cast<int>(k) != i) seen.push_back(f.cones[k].cone_id);
+    const auto missed = [&](const StateVector& x, int as_cone) {
+      seen.push_back(as_cone);
+      const int n = ConesMissedAt(x, f, seen);
+      seen.pop_back();
+      return n;
+    };
+    StateVector x_fit;
+    res.ambiguity_own_chi2 = iterations > 0 ? ConeFitCost(prior.x, prior.P, o.cone, f.K, z, Rn, iterations, &x_fit)
+                                            : d2[static_cast<size_t>(i)];
+    if (negative) {
+      res.ambiguity_own_missed = missed(x_fit, o.cone_id);
+      res.ambiguity_own_chi2 += config_.cone_miss_cost * res.ambiguity_own_missed;
+    }
     res.ambiguity_rival_chi2 = std::numeric_limits<double>::infinity();
     res.ambiguity_screened = 0;
     // A rival whose every fit costs more than own + margin (ConeFitLowerBound; sound for the iterated fit only,
@@ -339,10 +377,13 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
         ++res.ambiguity_screened;
         continue;
       }
-      const double rival = ConeFitCost(prior.x, prior.P, f.layout[j], f.K, z, Rn, iterations);
+      double rival = ConeFitCost(prior.x, prior.P, f.layout[j], f.K, z, Rn, iterations, &x_fit);
+      const int rival_missed = negative ? missed(x_fit, static_cast<int>(j)) : 0;
+      rival += config_.cone_miss_cost * rival_missed;
       if (rival < res.ambiguity_rival_chi2) {
         res.ambiguity_rival_chi2 = rival;
         res.ambiguity_rival_id = static_cast<int>(j);
+        res.ambiguity_rival_missed = rival_missed;
       }
     }
     return res.ambiguity_rival_chi2 - res.ambiguity_own_chi2 < config_.cone_ambiguity_margin;

@@ -93,6 +93,7 @@ const Table& Params() {
       .Add("reacquire_min_cones", [](NodeConfig& c) -> int& { return c.ekf.reacquire_min_cones; })
       .Add("cone_ambiguity_margin", [](NodeConfig& c) -> double& { return c.ekf.cone_ambiguity_margin; })
       .Add("cone_ambiguity_iterations", [](NodeConfig& c) -> int& { return c.ekf.cone_ambiguity_iterations; })
+      .Add("cone_miss_cost", [](NodeConfig& c) -> double& { return c.ekf.cone_miss_cost; })
       .Add("cone_update_iterations", [](NodeConfig& c) -> int& { return c.ekf.cone_update_iterations; })
       .Add("layout_file", [](NodeConfig& c) -> std::string& { return c.layout_file; })
       // Options beyond the thesis, initial uncertainty and the measurement buffer (section 6.3).

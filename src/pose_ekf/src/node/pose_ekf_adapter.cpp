@@ -123,6 +123,7 @@ ConversionResult ConeFrameFromMsg(const cone_tracker::ConeObservations& msg, con
   }
   out->cones.clear();
   out->layout = layout;
+  out->width_px = msg.width, out->height_px = msg.height;  // 0 (an older publisher): no negative information
   static const char* const kPoints[kConePoints] = {"peak", "mid", "base"};
   for (size_t i = 0; i < msg.cones.size(); ++i) {
     const cone_tracker::ConeObservation& m = msg.cones[i];

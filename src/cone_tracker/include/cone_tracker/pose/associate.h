@@ -29,6 +29,7 @@
 
 #include "cone_tracker/pose/pnp.h"
 #include "pose_math/pose.h"
+#include "rig_model/cone_view.h"
 
 namespace cone_tracker {
 
@@ -52,6 +53,11 @@ struct AssociationConfig {
   // are, but no evidence of a conflict).
   double overlap_sigmas = 2.0;
   size_t max_assignments = 200000;  // enumeration bound; beyond it nothing is associated
+  // Negative information: an assignment whose fitted pose puts a layout cone it leaves unmatched in plain
+  // view (rig_model/cone_view.h) costs this much more per such cone, -2 ln(1 - P_D); 0: off. Below the
+  // ambiguity margin, a miss alone never makes a wrong cone win: it can only make a detection ambiguous.
+  double miss_cost = 0.0;
+  rig_model::PlainViewRule plain_view;
   std::string Validate() const;
 };
 
@@ -73,7 +79,8 @@ struct AssociationResult {
   // prediction is off by a swap of cones, or the segmentation by a cut cone;
   // either way nothing in the frame is associated.
   bool conflict = false;
-  double cost = 0.0;  // of the chosen assignment (chi2 units, unmatched detections at the gate)
+  double cost = 0.0;  // of the chosen assignment (chi2 units, unmatched detections at the gate, misses)
+  int misses = 0;     // of the chosen assignment: layout cones it puts in plain view that no detection is
   int fits = 0;       // assignments (and partial ones) fitted
 };
 

@@ -66,6 +66,8 @@ struct ConeFrame {
   // Every layout cone (index = cone_id), for the lone-cone ambiguity test (EkfConfig::cone_ambiguity_margin);
   // empty: not tested.
   std::vector<ConeGeometry> layout;
+  // The image's size (px), for the test's negative information (EkfConfig::cone_miss_cost); 0: unknown.
+  double width_px = 0.0, height_px = 0.0;
 };
 
 // "" when the frame can be fused (finite stamp and pixels, fx, fy > 0, symmetric positive definite
@@ -106,15 +108,24 @@ struct ConeFrameResult {
   double ambiguity_rival_chi2 = 0.0;
   int ambiguity_rival_id = -1;
   int ambiguity_screened = 0;
+  // Layout cones the own and the best rival's fitted poses put in plain view, unseen (EkfConfig::cone_miss_cost,
+  // included in the two statistics above).
+  int ambiguity_own_missed = 0;
+  int ambiguity_rival_missed = 0;
 };
 
 // The smallest cost J(x) = (x - x0)ᵀ P⁻¹ (x - x0) + (z - h(x))ᵀ R⁻¹ (z - h(x)) with which `cone` explains
 // the pixels z: the prior's Mahalanobis distance of the state correction plus the pixel fit, minimised by
 // `iterations` Gauss-Newton steps (those of the iterated EKF update, with step halving). 0 iterations: the
 // first-order statistic yᵀ S⁻¹ y at x0, which the first step reaches when h is linear. Infinite when the
-// cone cannot be projected at x0.
+// cone cannot be projected at x0. x_fit, when given: the state of the returned J (x0 for first order).
 double ConeFitCost(const StateVector& x0, const StateMatrix& P, const ConeGeometry& cone, const PinholeIntrinsics& K,
-                   const ConeVector& z, const ConeMatrix& R, int iterations);
+                   const ConeVector& z, const ConeMatrix& R, int iterations, StateVector* x_fit = nullptr);
+
+// How many layout cones, other than `seen`, the state x puts in plain view in the frame's image
+// (rig_model::InPlainView; silhouettes from the projected peak and base, tau times their distance wide).
+// 0 without an image size.
+int ConesMissedAt(const StateVector& x, const ConeFrame& f, const std::vector<int>& seen);
 
 // A lower bound on ConeFitCost's J(x) at every x, hence on what it returns with iterations > 0: min(t2, the least
 // peak pixel term of a pose whose prior term is below t2). So a result equal to t2 proves J ≥ t2 everywhere

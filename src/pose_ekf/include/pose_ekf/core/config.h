@@ -105,6 +105,10 @@ struct EkfConfig {
   // correction is judged by that correction's Mahalanobis distance, not by the linearisation at the
   // prediction (which scores a cone 1.5 m away ~80 where the fit gives ~1). 0 = first order.
   int cone_ambiguity_iterations = 5;
+  // Negative information in that test: a reading of the lone cone whose fitted pose puts another layout cone
+  // in plain view (rig_model/cone_view.h) where the frame has none costs this much more per such cone,
+  // -2 ln(1 - P_D) (README, "Negative information"). Needs the image size (ConeFrame::width_px); 0 = off.
+  double cone_miss_cost = 0.0;
   // Each fused cone's update is iterated (the iterated EKF: relinearised at the updated state) up to
   // this many more times, while the pixels the updated state predicts differ from the linearisation's
   // by more than a tenth of a pixel. Tracked, one update suffices (the check costs one projection).
