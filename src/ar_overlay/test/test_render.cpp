@@ -205,7 +205,9 @@ TEST_F(LodTest, FarAwayDrawsFewerTrianglesNearDrawsThemAll) {
   }
   ASSERT_LT(drawn, levels.size());
   EXPECT_LE(kCamera.fx_px * levels[drawn].second * kScale / 6.45, 0.5);
-  if (drawn + 1 < levels.size()) EXPECT_GT(kCamera.fx_px * levels[drawn + 1].second * kScale / 5.55, 0.5);
+  if (drawn + 1 < levels.size()) {
+    EXPECT_GT(kCamera.fx_px * levels[drawn + 1].second * kScale / 5.55, 0.5);
+  }
   RenderConfig off;
   off.lod_max_error_px = 0.0;
   Renderer full(off);

@@ -47,8 +47,6 @@ class RendererHandheldFrame : public ::testing::Test {
   const Frame f = RenderAt(r, pose, 4.0, 0);
 };
 
-}  // namespace
-
 TEST_F(RendererHandheldFrame, HitPointsOfConePixelsReprojectWithinOneHundredthPixel) {
   int cone_pixels = 0;
   double worst = 0.0;
@@ -142,4 +140,5 @@ TEST(Renderer, DeterministicPerSeedAndFrameAndIndependentOfThreads) {
   EXPECT_EQ(fa.labels, fc.labels);
 }
 
+}  // namespace
 }  // namespace rig_sim
