@@ -1,5 +1,6 @@
 // ekf_replay on bags written from the synthetic rig: the TUM trajectory it
 // writes must follow the truth; an IMU-only bag runs orientation-only.
+#include <geometry_msgs/PoseStamped.h>
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>
 #include <tf2_msgs/TFMessage.h>
@@ -8,12 +9,14 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <random>
 #include <sstream>
 
 #include "pose_ekf/node/node_config.h"
 #include "pose_ekf/node/replay.h"
+#include "pose_ekf/node/truth_residuals.h"
 #include "pose_ekf/testing/synthetic_cones.h"
 #include "pose_ekf/testing/synthetic_rig.h"
 #include "pose_math/rotation.h"
@@ -23,7 +26,8 @@ namespace pose_ekf_test {
 namespace {
 
 // with_cones: the first camera pose (it initialises the filter) and, for every camera event, the default layout's
-// cones seen from the truth with 1 px noise (synthetic_cones.h) instead of the poses.
+// cones seen from the truth with 1 px noise (synthetic_cones.h) instead of the poses, and the true camera pose
+// (rig_sim/ground_truth, as rig_sim records it).
 std::string WriteBag(const std::vector<Event>& events, bool with_camera, const std::string& name,
                      bool with_cones = false) {
   const std::string path = ::testing::TempDir() + name;
@@ -46,6 +50,14 @@ std::string WriteBag(const std::vector<Event>& events, bool with_camera, const s
       pose_ekf::ConeFrame f = ObserveCones(e.stamp_s + 1.0, e.truth.T_cones_camera, DefaultCones(), {0, 1, 2},
                                            DefaultIntrinsics(), 1.0, &rng);
       bag.write("/cone_tracker/observations", t, ObservationsMsg(f));
+      geometry_msgs::PoseStamped truth;
+      truth.header.stamp = t;
+      truth.header.frame_id = "cones";
+      const pose_math::Pose& T = e.truth.T_cones_camera;
+      truth.pose.position.x = T.t.x(), truth.pose.position.y = T.t.y(), truth.pose.position.z = T.t.z();
+      truth.pose.orientation.w = T.q[0], truth.pose.orientation.x = T.q[1];
+      truth.pose.orientation.y = T.q[2], truth.pose.orientation.z = T.q[3];
+      bag.write("/rig_sim/ground_truth", t, truth);
     }
     if (e.is_camera && with_camera && (first_pose || !with_cones)) {
       first_pose = false;
@@ -169,6 +181,124 @@ TEST(Replay, ConeLogGivesTheFusedConesNis) {
   EXPECT_EQ(rows, s.observation_messages);
   ASSERT_GT(dof, 4 * 3 * 100);
   EXPECT_NEAR(nis_sum / dof, 1.0, 0.25) << nis_sum << " over " << dof << " degrees of freedom";
+}
+
+// --truth-residuals: the observations' pixels against the filter's model at the true pose are the noise the bag
+// was written with, 1 px per coordinate and no bias; a bag without the truth gives none.
+TEST(Replay, TruthResidualsAreTheObservationsNoise) {
+  RigSimConfig sim;
+  sim.duration_s = 5.0;
+  pose_ekf::ReplayOptions o;
+  o.bag_path = WriteBag(GenerateRig(sim), true, "pose_ekf_replay_truth.bag", true);
+  o.output_path = ::testing::TempDir() + "pose_ekf_replay_truth.txt";
+  o.truth_residuals_path = ::testing::TempDir() + "pose_ekf_replay_truth_residuals.txt";
+  o.config.camera_update = static_cast<int>(pose_ekf::CameraUpdate::kCones);
+  o.config.layout_file = std::string(POSE_EKF_SOURCE_DIR) + "/../rig_model/config/layouts/default.yaml";
+  pose_ekf::LoadLayout(&o.config);
+  pose_ekf::ValidateConfig(&o.config);
+  std::ostringstream log;
+  pose_ekf::RunReplay(o, log);
+  std::ifstream f(o.truth_residuals_path);
+  std::string line;
+  ASSERT_TRUE(std::getline(f, line));
+  EXPECT_EQ(line, "# stamp_s cone_id depth_m peak_du peak_dv base_du base_dv");
+  double sum[4] = {}, sum2[4] = {};
+  int n = 0;
+  while (std::getline(f, line)) {
+    std::istringstream fields(line);
+    double t, id, depth, r[4];
+    ASSERT_TRUE(fields >> t >> id >> depth >> r[0] >> r[1] >> r[2] >> r[3]) << line;
+    EXPECT_GT(depth, 1.0) << line;  // the synthetic rig stays 2-3 m from the cones
+    for (int k = 0; k < 4; ++k) sum[k] += r[k], sum2[k] += r[k] * r[k];
+    ++n;
+  }
+  ASSERT_GT(n, 400);  // ~150 frames of three cones
+  for (int k = 0; k < 4; ++k) {
+    const double mean = sum[k] / n, sd = std::sqrt(sum2[k] / n - mean * mean);
+    EXPECT_LT(std::abs(mean), 3.0 / std::sqrt(n)) << k;  // 3 sigma of the mean of unit noise
+    EXPECT_NEAR(sd, 1.0, 0.1) << k;
+  }
+  const std::string summary = "residuals against the truth of " + std::to_string(n) + " cones in ";
+  EXPECT_NE(log.str().find(summary), std::string::npos) << log.str();
+  EXPECT_NE(log.str().find("(0 frames without truth)"), std::string::npos) << log.str();
+
+  o.bag_path = WriteBag(GenerateRig(sim), true, "pose_ekf_replay_no_truth.bag", false);
+  std::ostringstream no_truth;
+  pose_ekf::RunReplay(o, no_truth);
+  EXPECT_NE(no_truth.str().find("residuals against the truth of 0 cones in 0 frames (0 frames without truth)"),
+            std::string::npos)
+      << no_truth.str();
+}
+
+// Position RMS of a TUM trajectory against the events' truth, after the first second.
+double PositionRms(const std::map<long, pose_math::Pose>& tum, const std::vector<Event>& events) {
+  double sum2 = 0.0;
+  int n = 0;
+  for (const Event& e : events) {
+    const auto it = tum.find(std::lround(e.stamp_s * 1000));
+    if (e.is_camera || e.stamp_s < 1.0 || it == tum.end()) continue;
+    sum2 += std::pow(pose_math::TranslationError(it->second, e.truth.T_cones_camera), 2);
+    ++n;
+  }
+  return n > 0 ? std::sqrt(sum2 / n) : std::numeric_limits<double>::infinity();
+}
+
+// --truth-points: the observations' points replaced by their pixels at the true pose. The filter then follows the
+// truth more closely than with the recorded 1 px noise; a value other than peak, base or both is refused.
+TEST(Replay, TruthPointsReplaceTheRecordedPixels) {
+  RigSimConfig sim;
+  sim.duration_s = 5.0;
+  const std::vector<Event> events = GenerateRig(sim);
+  pose_ekf::ReplayOptions o;
+  o.bag_path = WriteBag(events, true, "pose_ekf_replay_truth_points.bag", true);
+  o.output_path = ::testing::TempDir() + "pose_ekf_replay_truth_points.txt";
+  o.config.camera_update = static_cast<int>(pose_ekf::CameraUpdate::kCones);
+  o.config.layout_file = std::string(POSE_EKF_SOURCE_DIR) + "/../rig_model/config/layouts/default.yaml";
+  pose_ekf::LoadLayout(&o.config);
+  pose_ekf::ValidateConfig(&o.config);
+  std::ostringstream log;
+  pose_ekf::RunReplay(o, log);
+  const double recorded = PositionRms(ReadTum(o.output_path), events);
+  o.truth_points = "both";
+  pose_ekf::RunReplay(o, log);
+  const double exact = PositionRms(ReadTum(o.output_path), events);
+  EXPECT_LT(exact, 0.5 * recorded) << "recorded " << recorded << " m, exact " << exact << " m";
+  o.truth_points = "tip";
+  try {
+    pose_ekf::RunReplay(o, log);
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "truth_points is 'tip': must be peak, base or both");
+  }
+}
+
+// A bias in the tracker's peak is the residual's mean; a stamp between two truth samples takes the pose between them.
+TEST(TruthResiduals, APeakBiasIsTheMeanResidual) {
+  pose_ekf::TruthResiduals r;
+  const pose_math::Pose T = ConeRigStart();
+  const Eigen::Quaterniond q = pose_math::EigenFromThesis(T.q);
+  r.AddTruth(0.0, T.t - Eigen::Vector3d(0.01, 0.0, 0.0), q);
+  r.AddTruth(0.01, T.t + Eigen::Vector3d(0.01, 0.0, 0.0), q);
+  std::mt19937 rng(1);
+  pose_ekf::ConeFrame f = ObserveCones(0.005, T, DefaultCones(), {0, 1, 2}, DefaultIntrinsics(), 1e-9, &rng);
+  ASSERT_EQ(f.cones.size(), 3u);
+  for (pose_ekf::ConeObservation& c : f.cones) c.px[0].y() += 2.0;  // 2 px down
+  std::ostringstream lines;
+  EXPECT_TRUE(r.AddFrame(f, &lines));
+  f.stamp_s = 0.5;  // no truth within 10 ms
+  EXPECT_FALSE(r.AddFrame(f, &lines));
+  const std::string summary = r.Summary();
+  EXPECT_EQ(summary.find("residuals against the truth of 3 cones in 1 frames (1 frames without truth): "), 0u)
+      << summary;
+  EXPECT_NE(summary.find("peak v +2.000 sd 0.000"), std::string::npos) << summary;
+  EXPECT_EQ(lines.str().find("0.005000 0 "), 0u) << lines.str();
+  std::istringstream first(lines.str());
+  double t, id, depth, du, dv, bu, bv;
+  ASSERT_TRUE(first >> t >> id >> depth >> du >> dv >> bu >> bv);
+  EXPECT_NEAR(dv, 2.0, 1e-6);
+  EXPECT_NEAR(du, 0.0, 1e-6);
+  EXPECT_NEAR(bu, 0.0, 1e-6);
+  EXPECT_NEAR(bv, 0.0, 1e-6);
 }
 
 TEST(Replay, ImuOnlyBagRunsOrientationOnly) {

@@ -1,5 +1,6 @@
 // rosrun pose_ekf ekf_replay --bag IN.bag [--config FILE] --output traj.txt
 //   [--camera-topic cone_tracker/pose] [--imu-topic imu/data_raw] [--cone-log FILE] [--covariance FILE]
+//   [--truth-residuals FILE] [--truth-points peak|base|both]
 #include <cstring>
 #include <iostream>
 #include <string>
@@ -25,6 +26,10 @@ int main(int argc, char** argv) {
       o.cone_log_path = value;
     else if (key == "--covariance")
       o.covariance_path = value;
+    else if (key == "--truth-residuals")
+      o.truth_residuals_path = value;
+    else if (key == "--truth-points")
+      o.truth_points = value;
     else {
       std::cerr << "ekf_replay: unknown option " << key << "\n";
       return 2;
@@ -32,7 +37,8 @@ int main(int argc, char** argv) {
   }
   if (o.bag_path.empty() || o.output_path.empty() || argc % 2 == 0) {
     std::cerr << "usage: ekf_replay --bag IN.bag [--config FILE.yaml] --output traj.txt "
-                 "[--camera-topic T] [--imu-topic T] [--cone-log FILE] [--covariance FILE]\n";
+                 "[--camera-topic T] [--imu-topic T] [--cone-log FILE] [--covariance FILE] [--truth-residuals FILE]\n"
+                 "  [--truth-points peak|base|both]\n";
     return 2;
   }
   try {

@@ -1,5 +1,6 @@
 #include "pose_ekf/node/replay.h"
 
+#include <geometry_msgs/PoseStamped.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <tf2/buffer_core.h>
@@ -13,6 +14,7 @@
 #include <stdexcept>
 
 #include "pose_ekf/node/pose_ekf_adapter.h"
+#include "pose_ekf/node/truth_residuals.h"
 
 namespace pose_ekf {
 namespace {
@@ -54,8 +56,21 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
   ReplaySummary summary;
   NodeConfig config = options.config;
   tf2::BufferCore tf(ros::Duration(1e6));
+  const bool residuals = !options.truth_residuals_path.empty();
+  const bool exact_peak = options.truth_points == "peak" || options.truth_points == "both";
+  const bool exact_base = options.truth_points == "base" || options.truth_points == "both";
+  if (!options.truth_points.empty() && !exact_peak && !exact_base)
+    throw std::runtime_error("truth_points is '" + options.truth_points + "': must be peak, base or both");
+  TruthResiduals truth;
   for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
     if (SameTopic(m.getTopic(), options.camera_topic)) ++summary.camera_messages;
+    if ((residuals || exact_peak || exact_base) && SameTopic(m.getTopic(), options.truth_topic)) {
+      if (auto msg = m.instantiate<geometry_msgs::PoseStamped>()) {
+        const auto& p = msg->pose.position;
+        const auto& q = msg->pose.orientation;
+        truth.AddTruth(msg->header.stamp.toSec(), {p.x, p.y, p.z}, Eigen::Quaterniond(q.w, q.x, q.y, q.z));
+      }
+    }
     if (m.getTopic() == "/tf_static" || m.getTopic() == "tf_static") {
       if (auto msg = m.instantiate<tf2_msgs::TFMessage>()) {
         for (const auto& t : msg->transforms) tf.setTransform(t, "bag", true);
@@ -113,6 +128,12 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
                << (ekf.estimate_gyro_bias ? " gyro_bias_xyz_rad_s gyro_bias_sigma_xyz_rad_s" : "")
                << (ekf.estimate_accel_bias ? " accel_bias_xyz_m_s2 accel_bias_sigma_xyz_m_s2" : "") << "\n";
   }
+  std::ofstream residual_lines;
+  if (residuals) {
+    residual_lines.open(options.truth_residuals_path);
+    if (!residual_lines) throw std::runtime_error("cannot write " + options.truth_residuals_path);
+    residual_lines << TruthResiduals::Header() << "\n";
+  }
   double last_written = -1.0;
   auto write = [&] {
     AdapterOutputs o;
@@ -144,6 +165,25 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
     } else if (SameTopic(m.getTopic(), options.observations_topic)) {
       if (auto msg = m.instantiate<cone_tracker::ConeObservations>()) {
         ++summary.observation_messages;
+        ConeFrame frame;
+        int nan = 0, invalid = 0;
+        std::string ignored;
+        const bool converted = (residuals || exact_peak || exact_base) &&
+                               ConeFrameFromMsg(*msg, config.camera_frame, config.layout_cones, &frame, &ignored, &nan,
+                                                &invalid) == ConversionResult::kOk;
+        if (converted && residuals) truth.AddFrame(frame, &residual_lines);
+        std::vector<ConeVector> exact;
+        if (converted && (exact_peak || exact_base) && truth.TruthPixels(frame, &exact)) {
+          for (size_t i = 0; i < frame.cones.size(); ++i) {
+            if (!exact[i].allFinite()) continue;
+            for (cone_tracker::ConeObservation& c : msg->cones) {
+              if (c.cone_id != frame.cones[i].cone_id) continue;
+              if (exact_peak) c.peak_px = {exact[i][0], exact[i][1]};
+              if (exact_base) c.base_px = {exact[i][2], exact[i][3]};
+              c.mid_px = {0.5 * (c.peak_px[0] + c.base_px[0]), 0.5 * (c.peak_px[1] + c.base_px[1])};
+            }
+          }
+        }
         const AddResult r = adapter.HandleObservations(*msg, &why);  // with camera_update: cones and a layout_file
         if (cone_log.is_open()) {
           const bool ran = r == AddResult::kApplied || r == AddResult::kReplayed || r == AddResult::kGated;
@@ -172,6 +212,7 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
       << ", joint-dropped " << c.cones_joint_dropped << ", refused " << adapter.observations_rejected() << " + "
       << adapter.cones_refused_nan() + adapter.cones_refused_invalid() << ", poses not fused (their cones were) "
       << c.poses_superseded << "\n";
+  if (residuals) log << "ekf_replay: " << truth.Summary() << "\n";
   summary.camera_gated = c.camera_gated;
   summary.reinits = c.reinits;
   return summary;

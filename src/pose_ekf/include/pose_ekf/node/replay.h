@@ -24,6 +24,14 @@ struct ReplayOptions {
   // when they are states, the gyro and accelerometer biases (camera axes) with their sigmas: with a truth at hand,
   // how consistent the filter is, e.g. in camera outages (README, "camera outages").
   std::string covariance_path;
+  // Optional: one line per observed cone, its residuals against the truth (TruthResiduals::Header), on bags that
+  // carry truth_topic; their means and spreads go to the log.
+  std::string truth_residuals_path;
+  std::string truth_topic = "rig_sim/ground_truth";  // geometry_msgs/PoseStamped, camera_optical in cones
+  // Optional, a what-if on such bags: "peak", "base" or "both" of every observed cone replaced by its pixels at the
+  // true pose (TruthResiduals::TruthPixels; the mid by their midpoint), the covariances kept: the filter with that
+  // part of the tracker made exact. Frames without truth stay as recorded.
+  std::string truth_points;
 };
 
 struct ReplaySummary {
