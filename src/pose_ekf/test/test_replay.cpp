@@ -143,19 +143,26 @@ TEST(Replay, WritesATumTrajectoryThatFollowsTheTruth) {
   EXPECT_GT(inside, 0.95 * checked) << inside << " of " << checked;
 }
 
+// A replay of `events` written as cone observations (WriteBag's with_cones), with the per-cone updates on and the
+// default layout: the bag and the trajectory are named after `name` in the test's temporary directory.
+pose_ekf::ReplayOptions ConeReplay(const std::vector<Event>& events, const std::string& name) {
+  pose_ekf::ReplayOptions o;
+  o.bag_path = WriteBag(events, true, name + ".bag", true);
+  o.output_path = ::testing::TempDir() + name + ".txt";
+  o.config.camera_update = static_cast<int>(pose_ekf::CameraUpdate::kCones);
+  o.config.layout_file = std::string(POSE_EKF_SOURCE_DIR) + "/../rig_model/config/layouts/default.yaml";
+  pose_ekf::LoadLayout(&o.config);
+  pose_ekf::ValidateConfig(&o.config);  // as the loaders do: sets ekf.camera_update
+  return o;
+}
+
 // --cone-log: a line per observation message, its last column the joint NIS of the cones fused. With the pixel noise
 // the observations claim, that NIS per degree of freedom (4 a cone: peak and base) averages 1.
 TEST(Replay, ConeLogGivesTheFusedConesNis) {
   RigSimConfig sim;
   sim.duration_s = 5.0;
-  pose_ekf::ReplayOptions o;
-  o.bag_path = WriteBag(GenerateRig(sim), true, "pose_ekf_replay_cones.bag", true);
-  o.output_path = ::testing::TempDir() + "pose_ekf_replay_cones.txt";
+  pose_ekf::ReplayOptions o = ConeReplay(GenerateRig(sim), "pose_ekf_replay_cones");
   o.cone_log_path = ::testing::TempDir() + "pose_ekf_replay_cones.log";
-  o.config.camera_update = static_cast<int>(pose_ekf::CameraUpdate::kCones);
-  o.config.layout_file = std::string(POSE_EKF_SOURCE_DIR) + "/../rig_model/config/layouts/default.yaml";
-  pose_ekf::LoadLayout(&o.config);
-  pose_ekf::ValidateConfig(&o.config);  // as the loaders do: sets ekf.camera_update
   std::ostringstream log;
   const pose_ekf::ReplaySummary s = pose_ekf::RunReplay(o, log);
   EXPECT_GT(s.observation_messages, 140u) << log.str();
@@ -188,14 +195,8 @@ TEST(Replay, ConeLogGivesTheFusedConesNis) {
 TEST(Replay, TruthResidualsAreTheObservationsNoise) {
   RigSimConfig sim;
   sim.duration_s = 5.0;
-  pose_ekf::ReplayOptions o;
-  o.bag_path = WriteBag(GenerateRig(sim), true, "pose_ekf_replay_truth.bag", true);
-  o.output_path = ::testing::TempDir() + "pose_ekf_replay_truth.txt";
+  pose_ekf::ReplayOptions o = ConeReplay(GenerateRig(sim), "pose_ekf_replay_truth");
   o.truth_residuals_path = ::testing::TempDir() + "pose_ekf_replay_truth_residuals.txt";
-  o.config.camera_update = static_cast<int>(pose_ekf::CameraUpdate::kCones);
-  o.config.layout_file = std::string(POSE_EKF_SOURCE_DIR) + "/../rig_model/config/layouts/default.yaml";
-  pose_ekf::LoadLayout(&o.config);
-  pose_ekf::ValidateConfig(&o.config);
   std::ostringstream log;
   pose_ekf::RunReplay(o, log);
   std::ifstream f(o.truth_residuals_path);
@@ -249,13 +250,7 @@ TEST(Replay, TruthPointsReplaceTheRecordedPixels) {
   RigSimConfig sim;
   sim.duration_s = 5.0;
   const std::vector<Event> events = GenerateRig(sim);
-  pose_ekf::ReplayOptions o;
-  o.bag_path = WriteBag(events, true, "pose_ekf_replay_truth_points.bag", true);
-  o.output_path = ::testing::TempDir() + "pose_ekf_replay_truth_points.txt";
-  o.config.camera_update = static_cast<int>(pose_ekf::CameraUpdate::kCones);
-  o.config.layout_file = std::string(POSE_EKF_SOURCE_DIR) + "/../rig_model/config/layouts/default.yaml";
-  pose_ekf::LoadLayout(&o.config);
-  pose_ekf::ValidateConfig(&o.config);
+  pose_ekf::ReplayOptions o = ConeReplay(events, "pose_ekf_replay_truth_points");
   std::ostringstream log;
   pose_ekf::RunReplay(o, log);
   const double recorded = PositionRms(ReadTum(o.output_path), events);
