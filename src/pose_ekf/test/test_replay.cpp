@@ -74,6 +74,13 @@ std::string WriteBag(const std::vector<Event>& events, bool with_camera, const s
   return path;
 }
 
+// Five seconds of the synthetic rig.
+std::vector<Event> FiveSeconds() {
+  RigSimConfig sim;
+  sim.duration_s = 5.0;
+  return GenerateRig(sim);
+}
+
 // t -> pose from a TUM file.
 std::map<long, pose_math::Pose> ReadTum(const std::string& path) {
   std::map<long, pose_math::Pose> out;
@@ -86,9 +93,7 @@ std::map<long, pose_math::Pose> ReadTum(const std::string& path) {
 }
 
 TEST(Replay, WritesATumTrajectoryThatFollowsTheTruth) {
-  RigSimConfig sim;
-  sim.duration_s = 5.0;
-  const std::vector<Event> events = GenerateRig(sim);
+  const std::vector<Event> events = FiveSeconds();
   pose_ekf::ReplayOptions o;
   o.bag_path = WriteBag(events, true, "pose_ekf_replay.bag");
   o.output_path = ::testing::TempDir() + "pose_ekf_replay.txt";
@@ -159,9 +164,7 @@ pose_ekf::ReplayOptions ConeReplay(const std::vector<Event>& events, const std::
 // --cone-log: a line per observation message, its last column the joint NIS of the cones fused. With the pixel noise
 // the observations claim, that NIS per degree of freedom (4 a cone: peak and base) averages 1.
 TEST(Replay, ConeLogGivesTheFusedConesNis) {
-  RigSimConfig sim;
-  sim.duration_s = 5.0;
-  pose_ekf::ReplayOptions o = ConeReplay(GenerateRig(sim), "pose_ekf_replay_cones");
+  pose_ekf::ReplayOptions o = ConeReplay(FiveSeconds(), "pose_ekf_replay_cones");
   o.cone_log_path = ::testing::TempDir() + "pose_ekf_replay_cones.log";
   std::ostringstream log;
   const pose_ekf::ReplaySummary s = pose_ekf::RunReplay(o, log);
@@ -193,9 +196,7 @@ TEST(Replay, ConeLogGivesTheFusedConesNis) {
 // --truth-residuals: the observations' pixels against the filter's model at the true pose are the noise the bag
 // was written with, 1 px per coordinate and no bias; a bag without the truth gives none.
 TEST(Replay, TruthResidualsAreTheObservationsNoise) {
-  RigSimConfig sim;
-  sim.duration_s = 5.0;
-  pose_ekf::ReplayOptions o = ConeReplay(GenerateRig(sim), "pose_ekf_replay_truth");
+  pose_ekf::ReplayOptions o = ConeReplay(FiveSeconds(), "pose_ekf_replay_truth");
   o.truth_residuals_path = ::testing::TempDir() + "pose_ekf_replay_truth_residuals.txt";
   std::ostringstream log;
   pose_ekf::RunReplay(o, log);
@@ -223,7 +224,7 @@ TEST(Replay, TruthResidualsAreTheObservationsNoise) {
   EXPECT_NE(log.str().find(summary), std::string::npos) << log.str();
   EXPECT_NE(log.str().find("(0 frames without truth)"), std::string::npos) << log.str();
 
-  o.bag_path = WriteBag(GenerateRig(sim), true, "pose_ekf_replay_no_truth.bag", false);
+  o.bag_path = WriteBag(FiveSeconds(), true, "pose_ekf_replay_no_truth.bag", false);
   std::ostringstream no_truth;
   pose_ekf::RunReplay(o, no_truth);
   EXPECT_NE(no_truth.str().find("residuals against the truth of 0 cones in 0 frames (0 frames without truth)"),
@@ -247,9 +248,7 @@ double PositionRms(const std::map<long, pose_math::Pose>& tum, const std::vector
 // --truth-points: the observations' points replaced by their pixels at the true pose. The filter then follows the
 // truth more closely than with the recorded 1 px noise; a value other than peak, base or both is refused.
 TEST(Replay, TruthPointsReplaceTheRecordedPixels) {
-  RigSimConfig sim;
-  sim.duration_s = 5.0;
-  const std::vector<Event> events = GenerateRig(sim);
+  const std::vector<Event> events = FiveSeconds();
   pose_ekf::ReplayOptions o = ConeReplay(events, "pose_ekf_replay_truth_points");
   std::ostringstream log;
   pose_ekf::RunReplay(o, log);
