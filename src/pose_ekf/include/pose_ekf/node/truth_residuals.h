@@ -31,7 +31,8 @@ class TruthResiduals {
   // camera): what a tracker without error would have measured. False when no truth brackets the stamp.
   bool TruthPixels(const ConeFrame& f, std::vector<ConeVector>* h) const;
   static const char* Header();
-  // "residuals of N cones in M frames (K frames without truth): peak u mean ± sd, v ...; base u ..., v ... px".
+  // "residuals against the truth of N cones in M frames (K frames without truth): peak u <mean> sd <sd>, peak v ...,
+  // base u ..., base v ... px".
   std::string Summary() const;
 
  private:
