@@ -29,4 +29,12 @@ std::vector<bool> InPlainView(const std::vector<std::optional<ImageBox>>& boxes,
   return plain;
 }
 
+int MissedInPlainView(const std::vector<std::optional<ImageBox>>& boxes, const std::vector<bool>& seen, double width_px,
+                      double height_px, const PlainViewRule& rule) {
+  const std::vector<bool> plain = InPlainView(boxes, width_px, height_px, rule);
+  int missed = 0;
+  for (size_t k = 0; k < plain.size(); ++k) missed += plain[k] && !(k < seen.size() && seen[k]);
+  return missed;
+}
+
 }  // namespace rig_model

@@ -41,5 +41,14 @@ TEST(ConeView, PlainViewNeedsTheWholeSilhouetteInsideTallAndApart) {
   EXPECT_EQ(InPlainView(boxes, 512, 384, rule), (std::vector<bool>{false, false}));
 }
 
+TEST(ConeView, MissesAreConesInPlainViewNotSeen) {
+  // Two in plain view, one cut by the edge, one behind the camera: seeing the first leaves one miss; seeing
+  // none, two; a cone not in plain view is never a miss, seen or not.
+  const std::vector<std::optional<ImageBox>> boxes = {Cone(100, 200), Cone(300, 200), Cone(10, 200), std::nullopt};
+  EXPECT_EQ(MissedInPlainView(boxes, {true, false, false, false}, 512, 384), 1);
+  EXPECT_EQ(MissedInPlainView(boxes, {}, 512, 384), 2);
+  EXPECT_EQ(MissedInPlainView(boxes, {true, true, true, true}, 512, 384), 0);
+}
+
 }  // namespace
 }  // namespace rig_model

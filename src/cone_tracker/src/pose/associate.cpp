@@ -277,14 +277,10 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
       };
       boxes[k] = Silhouette(p, px(peak), px(base), base.z(), cam);
     }
-    const std::vector<bool> plain = rig_model::InPlainView(boxes, cam.width_px, cam.height_px, cfg.plain_view);
-    int n = 0;
-    for (size_t k = 0; k < num_cones; ++k) {
-      const bool matched =
-          std::any_of(a.begin(), a.end(), [&](int c) { return c >= 0 && out.candidates[size_t(c)].cone == int(k); });
-      n += plain[k] && !matched;
-    }
-    return n;
+    std::vector<bool> seen(num_cones, false);
+    for (int c : a)
+      if (c >= 0) seen[size_t(out.candidates[size_t(c)].cone)] = true;
+    return rig_model::MissedInPlainView(boxes, seen, cam.width_px, cam.height_px, cfg.plain_view);
   };
   std::vector<Scored> all;
   std::vector<int> cur(nd, -1);

@@ -196,11 +196,10 @@ int ConesMissedAt(const StateVector& x, const ConeFrame& f, const std::vector<in
     const Eigen::Vector2d peak = h.segment<2>(0), base = h.segment<2>(2);
     boxes[k] = rig_model::SilhouetteBox(peak, base, f.layout[k].tau * (peak - base).norm());
   }
-  const std::vector<bool> plain = rig_model::InPlainView(boxes, f.width_px, f.height_px);
-  int missed = 0;
-  for (size_t k = 0; k < f.layout.size(); ++k)
-    missed += plain[k] && std::find(seen.begin(), seen.end(), static_cast<int>(k)) == seen.end();
-  return missed;
+  std::vector<bool> seen_k(f.layout.size(), false);
+  for (int id : seen)
+    if (id >= 0 && static_cast<size_t>(id) < seen_k.size()) seen_k[static_cast<size_t>(id)] = true;
+  return rig_model::MissedInPlainView(boxes, seen_k, f.width_px, f.height_px);
 }
 
 // The iterated EKF update of one cone: the update from the prior x0 linearised at x_i takes the residual

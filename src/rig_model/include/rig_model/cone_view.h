@@ -39,4 +39,9 @@ struct PlainViewRule {
 std::vector<bool> InPlainView(const std::vector<std::optional<ImageBox>>& boxes, double width_px, double height_px,
                               const PlainViewRule& rule = {});
 
+// The misses of a hypothesis: the layout cones it puts in plain view (InPlainView) that are not seen (seen[k]: a
+// detection was taken as cone k).
+int MissedInPlainView(const std::vector<std::optional<ImageBox>>& boxes, const std::vector<bool>& seen, double width_px,
+                      double height_px, const PlainViewRule& rule = {});
+
 }  // namespace rig_model
