@@ -22,6 +22,11 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
   return m;
 }
 
+// A point in camera coordinates to pinhole pixels (the association works on undistorted points).
+Eigen::Vector2d Pinhole(const CameraModel& cam, const Eigen::Vector3d& p) {
+  return {cam.fx_px * p.x() / p.z() + cam.cx_px, cam.fy_px * p.y() / p.z() + cam.cy_px};
+}
+
 // Projects a cone's three points; false when one is too near or behind the
 // camera, or far outside the image. The Jacobian is against a small rotation
 // of the camera (R' = Exp(dtheta) R, in the camera frame) and a shift of its
@@ -32,7 +37,8 @@ bool ProjectCone(const ConePoints3d& pts, const Eigen::Matrix3d& R, const Eigen:
   for (int i = 0; i < 3; ++i) {
     const Eigen::Vector3d p = R * (pts[size_t(i)] - eye);
     if (!(p.z() > cfg.min_depth_m)) return false;
-    const double u = cam.fx_px * p.x() / p.z() + cam.cx_px, v = cam.fy_px * p.y() / p.z() + cam.cy_px;
+    const Eigen::Vector2d uv = Pinhole(cam, p);
+    const double u = uv.x(), v = uv.y();
     if (u < -mu || v < -mv || u > cam.width_px - 1 + mu || v > cam.height_px - 1 + mv) return false;
     Eigen::Matrix<double, 2, 3> duv_dp;
     duv_dp << cam.fx_px / p.z(), 0, -cam.fx_px * p.x() / (p.z() * p.z()), 0, cam.fy_px / p.z(),
@@ -272,10 +278,7 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
       const ConePoints3d p = model(k, ex);
       const Eigen::Vector3d peak = Rx * (p[0] - ex), base = Rx * (p[2] - ex);
       if (!(peak.z() > cfg.min_depth_m && base.z() > cfg.min_depth_m)) continue;
-      const auto px = [&](const Eigen::Vector3d& c) {
-        return Eigen::Vector2d(cam.fx_px * c.x() / c.z() + cam.cx_px, cam.fy_px * c.y() / c.z() + cam.cy_px);
-      };
-      boxes[k] = Silhouette(p, px(peak), px(base), base.z(), cam);
+      boxes[k] = Silhouette(p, Pinhole(cam, peak), Pinhole(cam, base), base.z(), cam);
     }
     std::vector<bool> seen(num_cones, false);
     for (int c : a)
