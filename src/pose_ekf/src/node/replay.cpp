@@ -171,9 +171,10 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
         const bool converted = (residuals || exact_peak || exact_base) &&
                                ConeFrameFromMsg(*msg, config.camera_frame, config.layout_cones, &frame, &ignored, &nan,
                                                 &invalid) == ConversionResult::kOk;
-        if (converted && residuals) truth.AddFrame(frame, &residual_lines);
-        std::vector<ConeVector> exact;
-        if (converted && (exact_peak || exact_base) && truth.TruthPixels(frame, &exact)) {
+        std::vector<ConeVector> exact;  // the frame's truth pixels, projected once for both options
+        const bool have_truth = converted && (residuals ? truth.AddFrame(frame, &residual_lines, &exact)
+                                                        : truth.TruthPixels(frame, &exact));
+        if (have_truth && (exact_peak || exact_base)) {
           for (size_t i = 0; i < frame.cones.size(); ++i) {
             if (!exact[i].allFinite()) continue;
             for (cone_tracker::ConeObservation& c : msg->cones) {

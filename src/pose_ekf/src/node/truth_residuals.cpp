@@ -37,26 +37,36 @@ bool TruthResiduals::PoseAt(double stamp_s, StateVector* x, Eigen::Matrix3d* R_c
   return true;
 }
 
+namespace {
+
+// h(x) of each of the frame's cones (NaN for one not in front of the camera).
+std::vector<ConeVector> ProjectAll(const StateVector& x, const ConeFrame& f) {
+  std::vector<ConeVector> h(f.cones.size());
+  for (size_t i = 0; i < f.cones.size(); ++i)
+    if (!ProjectCone(x, f.cones[i].cone, f.K, &h[i], nullptr))
+      h[i].setConstant(std::numeric_limits<double>::quiet_NaN());
+  return h;
+}
+
+}  // namespace
+
 bool TruthResiduals::TruthPixels(const ConeFrame& f, std::vector<ConeVector>* h) const {
   StateVector x;
   Eigen::Matrix3d R;
   if (!PoseAt(f.stamp_s, &x, &R)) return false;
-  h->resize(f.cones.size());
-  for (size_t i = 0; i < f.cones.size(); ++i)
-    if (!ProjectCone(x, f.cones[i].cone, f.K, &(*h)[i], nullptr))
-      (*h)[i].setConstant(std::numeric_limits<double>::quiet_NaN());
+  *h = ProjectAll(x, f);
   return true;
 }
 
-bool TruthResiduals::AddFrame(const ConeFrame& f, std::ostream* lines) {
+bool TruthResiduals::AddFrame(const ConeFrame& f, std::ostream* lines, std::vector<ConeVector>* truth_px) {
   ++frames_;
   StateVector x;
   Eigen::Matrix3d R_cones_camera;
-  std::vector<ConeVector> h;
-  if (!PoseAt(f.stamp_s, &x, &R_cones_camera) || !TruthPixels(f, &h)) {
+  if (!PoseAt(f.stamp_s, &x, &R_cones_camera)) {
     ++frames_without_truth_;
     return false;
   }
+  const std::vector<ConeVector> h = ProjectAll(x, f);
   for (size_t i = 0; i < f.cones.size(); ++i) {
     const ConeObservation& o = f.cones[i];
     if (!h[i].allFinite()) continue;            // not in front of the true camera
@@ -69,6 +79,7 @@ bool TruthResiduals::AddFrame(const ConeFrame& f, std::ostream* lines) {
              << depth_m << std::setprecision(4) << ' ' << r[0] << ' ' << r[1] << ' ' << r[2] << ' ' << r[3] << '\n';
     }
   }
+  if (truth_px) *truth_px = h;
   return true;
 }
 

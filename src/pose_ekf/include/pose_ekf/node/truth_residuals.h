@@ -25,8 +25,9 @@ class TruthResiduals {
   // In stamp order (a bag's order); out-of-order samples are ignored.
   void AddTruth(double stamp_s, const Eigen::Vector3d& p_cones_camera, const Eigen::Quaterniond& q_cones_camera);
   // One line per cone to *lines (when not null): stamp, cone id, the depth of its base centre, and the
-  // residuals (px) of the peak (u v) and the base (u v). False when no truth brackets the stamp.
-  bool AddFrame(const ConeFrame& f, std::ostream* lines);
+  // residuals (px) of the peak (u v) and the base (u v); *truth_px (when not null) gets TruthPixels's result.
+  // False when no truth brackets the stamp.
+  bool AddFrame(const ConeFrame& f, std::ostream* lines, std::vector<ConeVector>* truth_px = nullptr);
   // The pixels h(x_true) of the frame's cones (peak u v, base u v; NaN for a cone not in front of the true
   // camera): what a tracker without error would have measured. False when no truth brackets the stamp.
   bool TruthPixels(const ConeFrame& f, std::vector<ConeVector>* h) const;
