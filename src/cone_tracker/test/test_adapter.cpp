@@ -85,8 +85,6 @@ TEST(GateNames, EverySegmentationGateIsNamed) {
     EXPECT_EQ(SegmentationGateNames(bit).size(), 1u) << "gate bit " << bit << " has no name";
 }
 
-}  // namespace
-
 // Every encoding reaches the core and gives the same cones. Plain cones (same size and layout, no
 // white collars): the demosaiced colour fringes at collars disturb the segmentation on some
 // patterns, and this test is about the encodings. The chi-square gate at sigma_px = 1 px may still
@@ -267,4 +265,5 @@ TEST(AdapterHeading, PriorPicksAmongTheSymmetricPoses) {
   }
 }
 
+}  // namespace
 }  // namespace cone_tracker
