@@ -323,15 +323,20 @@ TEST(Associate, AConeAReadingPutsInPlainViewUnseenCostsThatReadingAMiss) {
     }
     return d;
   };
-  const auto associate = [&](const std::vector<ConePoints2d>& dets, double miss_cost) {
+  // The detections associated from the prediction T with configuration c.
+  const auto associate_with = [&](const std::vector<ConePoints2d>& dets, const AssociationConfig& c,
+                                  const pose_math::Pose& T) {
     std::vector<std::array<Eigen::Matrix2d, 3>> cov;
     for (const ConePoints2d& d : dets) {
       const double h = (d[0] - d[2]).norm();
-      cov.push_back(PointCovariances(d, h * h * layout[1].tau, cfg.sigma_px));
+      cov.push_back(PointCovariances(d, h * h * layout[1].tau, c.sigma_px));
     }
+    return AssociateCones(dets, cov, layout.size(), LayoutSeenFrom(layout), cam, T, c);
+  };
+  const auto associate = [&](const std::vector<ConePoints2d>& dets, double miss_cost) {
     AssociationConfig c = cfg;
     c.miss_cost = miss_cost;
-    return AssociateCones(dets, cov, layout.size(), LayoutSeenFrom(layout), cam, pred, c);
+    return associate_with(dets, c, pred);
   };
   const ConePoints2d cone1 = seen(truth, eye, 1);
   ASSERT_GT(cone1[0].x(), 400.0) << "cone 1 near the right edge, as in the recording (503, 120)";
@@ -357,10 +362,7 @@ TEST(Associate, AConeAReadingPutsInPlainViewUnseenCostsThatReadingAMiss) {
     c.prediction_cov.reset();
     c.prediction_sigma_m = sigma_m;
     c.miss_cost = 7.0;
-    const ConePoints2d d1 = seen(both, eye2, 1);
-    const double h = (d1[0] - d1[2]).norm();
-    const std::vector<std::array<Eigen::Matrix2d, 3>> cov = {PointCovariances(d1, h * h * layout[1].tau, c.sigma_px)};
-    const AssociationResult a = AssociateCones({d1}, cov, layout.size(), LayoutSeenFrom(layout), cam, both, c);
+    const AssociationResult a = associate_with({seen(both, eye2, 1)}, c, both);
     EXPECT_TRUE(a.cone_of_detection[0] == 1 || a.cone_of_detection[0] == -1)
         << "sigma " << sigma_m << " m: cone 1 named cone " << a.cone_of_detection[0];
   }
