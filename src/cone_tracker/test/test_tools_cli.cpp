@@ -102,6 +102,22 @@ TEST(PnpSolveCli, FailedCasesExitOneWithALineEach) {
   std::remove(out.c_str());
 }
 
+TEST(PnpSolveCli, RansacListsInliersAndRefusesABadThreshold) {
+  const std::string in = TempPath("ransac.jsonl"), out = TempPath("ransac_out.jsonl");
+  std::ofstream(in) << GoodCase() << "\n";
+  const ToolRun r = RunTool(PNP_SOLVE_EXE, "--ransac-px 2 --input " + in + " --output " + out);
+  EXPECT_EQ(r.status, 0) << r.err;
+  std::string line;
+  std::getline(std::ifstream(out), line);
+  EXPECT_NE(line.find(R"("inliers":5,"outliers":[])"), std::string::npos) << line;
+  const ToolRun bad = RunTool(PNP_SOLVE_EXE, "--ransac-px -1 --input " + in + " --output " + out);
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("pnp_solve: --ransac-px '-1' is not a positive number of pixels"), std::string::npos)
+      << bad.err;
+  std::remove(in.c_str());
+  std::remove(out.c_str());
+}
+
 TEST(PnpSolveCli, UnreadableInputExitsOne) {
   const ToolRun r = RunTool(PNP_SOLVE_EXE, "--input /nonexistent.jsonl --output -");
   EXPECT_EQ(r.status, 1);

@@ -9,7 +9,7 @@ namespace {
 
 using nlohmann::json;
 
-nlohmann::ordered_json Solve(const json& in, PnpOptions options) {
+nlohmann::ordered_json Solve(const json& in, PnpOptions options, const RansacOptions* ransac) {
   CameraModel camera;
   const auto K = in.at("K").get<std::vector<double>>();
   if (K.size() != 4) throw std::invalid_argument("K must be [fx, fy, cx, cy]");
@@ -35,8 +35,11 @@ nlohmann::ordered_json Solve(const json& in, PnpOptions options) {
     if (q.size() != 4 || t.size() != 3) throw std::invalid_argument("init needs q[4] and t[3]");
     init = pose_math::Pose{pose_math::Quat(q[0], q[1], q[2], q[3]).normalized(), Eigen::Vector3d(t[0], t[1], t[2])};
   }
+  if (init && ransac) throw std::invalid_argument("init is not used with RANSAC: give one or the other");
   const auto start = std::chrono::steady_clock::now();
-  const PnpResult r = SolvePnp(camera, model, image, options, init);
+  RansacPnpResult robust;
+  if (ransac) robust = SolvePnpRansac(camera, model, image, options, *ransac);
+  const PnpResult r = ransac ? robust.pnp : SolvePnp(camera, model, image, options, init);
   const double time_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
   nlohmann::ordered_json out;
   out["ok"] = r.ok;
@@ -59,15 +62,22 @@ nlohmann::ordered_json Solve(const json& in, PnpOptions options) {
   out["cov6"] = cov6;
   out["iterations"] = r.iterations;
   out["reproj_rms_px"] = r.reproj_rms_px;
+  if (ransac) {
+    out["inliers"] = robust.num_inliers;
+    std::vector<int> outliers;
+    for (size_t i = 0; i < robust.inlier.size(); ++i)
+      if (!robust.inlier[i]) outliers.push_back(int(i));
+    out["outliers"] = outliers;
+  }
   out["time_us"] = time_us;
   return out;
 }
 
 }  // namespace
 
-nlohmann::ordered_json SolveJsonCase(const json& in, PnpOptions options) {
+nlohmann::ordered_json SolveJsonCase(const json& in, PnpOptions options, const RansacOptions* ransac) {
   try {
-    return Solve(in, options);
+    return Solve(in, options, ransac);
   } catch (const std::exception& e) {
     nlohmann::ordered_json out;
     out["ok"] = false;
