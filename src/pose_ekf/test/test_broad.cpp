@@ -23,6 +23,7 @@
 #include "imu_driver/core/gyro_bias.h"
 #include "pose_ekf/core/measurement_buffer.h"
 #include "pose_ekf/node/node_config.h"
+#include "shared_data.h"
 
 namespace pose_ekf_test {
 namespace {
@@ -31,15 +32,7 @@ namespace {
 // catkin_ws/src/pose_ekf through the symlink); the data sits in ../shared beside
 // the root (a worktree one level deeper also finds it). POSE_EKF_BROAD_DIR overrides.
 std::string BroadDir() {
-  if (const char* env = std::getenv("POSE_EKF_BROAD_DIR")) return env;
-  const std::string pkg = POSE_EKF_SOURCE_DIR;
-  for (const char* up : {"/../..", "/../../.."}) {
-    for (const char* shared : {"/../shared", "/../../shared"}) {
-      const std::string dir = pkg + up + shared + "/data/imu/broad";
-      if (std::ifstream(dir + "/results_madgwick_average_rmse.json")) return dir;
-    }
-  }
-  return "";
+  return SharedDataDir("imu/broad", "results_madgwick_average_rmse.json", "POSE_EKF_BROAD_DIR");
 }
 
 struct Trial {
