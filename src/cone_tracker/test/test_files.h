@@ -2,11 +2,11 @@
 // folder beside the repository (../shared/data, also from a worktree one level deeper).
 #pragma once
 
-#include <cstdlib>
 #include <exception>
-#include <fstream>
 #include <functional>
 #include <string>
+
+#include "rig_model/shared_data.h"
 
 namespace cone_tracker {
 
@@ -21,17 +21,10 @@ inline std::string ErrorOf(const std::function<void()>& f) {
 }
 
 #ifdef CONE_TRACKER_SOURCE_DIR  // set by the tests that read the data
-// ../shared/data/<subdir> found from the package source, or the folder the environment variable env
-// names; "" when neither holds probe_file (the test then skips).
+// ../shared/data/<subdir> (rig_model/shared_data.h), or the folder the environment variable env names; "" when
+// neither holds probe_file (the test then skips).
 inline std::string SharedDataDir(const std::string& subdir, const std::string& probe_file, const char* env) {
-  if (const char* dir = std::getenv(env)) return dir;
-  const std::string pkg = CONE_TRACKER_SOURCE_DIR;
-  for (const char* up : {"/../..", "/../../.."})
-    for (const char* shared : {"/../shared", "/../../shared"}) {
-      const std::string dir = pkg + up + shared + "/data/" + subdir;
-      if (std::ifstream(dir + "/" + probe_file)) return dir;
-    }
-  return "";
+  return rig_model::SharedDataDir(CONE_TRACKER_SOURCE_DIR, subdir, probe_file, env);
 }
 #endif
 

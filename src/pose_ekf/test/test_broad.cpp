@@ -23,7 +23,7 @@
 #include "imu_driver/core/gyro_bias.h"
 #include "pose_ekf/core/measurement_buffer.h"
 #include "pose_ekf/node/node_config.h"
-#include "shared_data.h"
+#include "rig_model/shared_data.h"
 
 namespace pose_ekf_test {
 namespace {
@@ -32,7 +32,8 @@ namespace {
 // catkin_ws/src/pose_ekf through the symlink); the data sits in ../shared beside
 // the root (a worktree one level deeper also finds it). POSE_EKF_BROAD_DIR overrides.
 std::string BroadDir() {
-  return SharedDataDir("imu/broad", "results_madgwick_average_rmse.json", "POSE_EKF_BROAD_DIR");
+  return rig_model::SharedDataDir(POSE_EKF_SOURCE_DIR, "imu/broad", "results_madgwick_average_rmse.json",
+                                  "POSE_EKF_BROAD_DIR");
 }
 
 struct Trial {

@@ -16,7 +16,7 @@
 #include "pose_ekf/node/node_config.h"
 #include "pose_ekf/node/replay.h"
 #include "pose_math/rotation.h"
-#include "shared_data.h"
+#include "rig_model/shared_data.h"
 
 namespace pose_ekf_test {
 namespace {
@@ -36,7 +36,8 @@ class ThirdParty : public ::testing::TestWithParam<ThirdPartyBag> {};
 
 TEST_P(ThirdParty, ImuOnlyTiltFollowsTheRobotsOwnEstimate) {
   const ThirdPartyBag& b = GetParam();
-  const std::string dir = SharedDataDir("rosbags_third_party", "test2.bag", "POSE_EKF_THIRD_PARTY_BAGS");
+  const std::string dir =
+      rig_model::SharedDataDir(POSE_EKF_SOURCE_DIR, "rosbags_third_party", "test2.bag", "POSE_EKF_THIRD_PARTY_BAGS");
   if (dir.empty()) GTEST_SKIP() << "../shared/data/rosbags_third_party not found: third-party bag test skipped";
   pose_ekf::ReplayOptions o;
   o.bag_path = dir + "/" + b.name;
