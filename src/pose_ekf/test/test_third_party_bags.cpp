@@ -73,6 +73,32 @@ TEST_P(ThirdParty, ImuOnlyTiltFollowsTheRobotsOwnEstimate) {
   EXPECT_LT(median, b.max_median_tilt_deg);
 }
 
+// A bag whose IMU topic is not the one given: no trajectory, and a message that names the bag's IMU topics.
+TEST(ThirdPartyTopics, AnotherImuTopicIsNamed) {
+  const std::string path = ::testing::TempDir() + "pose_ekf_other_imu_topic.bag";
+  {
+    rosbag::Bag bag(path, rosbag::bagmode::Write);
+    sensor_msgs::Imu imu;
+    imu.header.stamp = ros::Time(1.0);
+    imu.linear_acceleration.z = 9.81;
+    bag.write("/robot/imu", imu.header.stamp, imu);
+  }
+  pose_ekf::ReplayOptions o;
+  o.bag_path = path;
+  o.output_path = ::testing::TempDir() + "pose_ekf_other_imu_topic.txt";
+  std::ostringstream log;
+  try {
+    pose_ekf::RunReplay(o, log);
+    FAIL() << "replayed a bag without samples on " << o.imu_topic;
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), path +
+                                         ": no sensor_msgs/Imu on 'imu/data_raw' and no camera poses on "
+                                         "'cone_tracker/pose'; the bag's sensor_msgs/Imu topics: /robot/imu "
+                                         "(--imu-topic), its geometry_msgs/PoseWithCovarianceStamped topics: none "
+                                         "(--camera-topic)");
+  }
+}
+
 // Husky and Jackal (IMU with its own filter, 30 and 50 Hz); the AR.Drone's own estimate (183 Hz) is the rougher.
 INSTANTIATE_TEST_SUITE_P(Bags, ThirdParty,
                          ::testing::Values(ThirdPartyBag{"test1.bag", "/imu/data", 1.5},

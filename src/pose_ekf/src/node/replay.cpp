@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iomanip>
 #include <ostream>
+#include <set>
 #include <stdexcept>
 
 #include "pose_ekf/node/pose_ekf_adapter.h"
@@ -40,6 +41,24 @@ void WriteCovarianceLine(double stamp_s, const boost::array<double, 36>& cov, co
   out << '\n';
 }
 
+// Why a bag with neither camera poses nor IMU samples on the given topics gives no trajectory, and which of its
+// topics carry them (another robot's bag names its IMU topic its own way).
+std::string NothingToReplay(const rosbag::Bag& bag, const ReplayOptions& options) {
+  std::set<std::string> imu, camera;
+  for (const rosbag::ConnectionInfo* c : rosbag::View(bag).getConnections()) {
+    if (c->datatype == "sensor_msgs/Imu") imu.insert(c->topic);
+    if (c->datatype == "geometry_msgs/PoseWithCovarianceStamped") camera.insert(c->topic);
+  }
+  auto list = [](const std::set<std::string>& topics) {
+    std::string s;
+    for (const std::string& t : topics) s += (s.empty() ? "" : ", ") + t;
+    return s.empty() ? std::string("none") : s;
+  };
+  return options.bag_path + ": no sensor_msgs/Imu on '" + options.imu_topic + "' and no camera poses on '" +
+         options.camera_topic + "'; the bag's sensor_msgs/Imu topics: " + list(imu) +
+         " (--imu-topic), its geometry_msgs/PoseWithCovarianceStamped topics: " + list(camera) + " (--camera-topic)";
+}
+
 }  // namespace
 
 ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
@@ -62,8 +81,10 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
   if (!options.truth_points.empty() && !exact_peak && !exact_base)
     throw std::runtime_error("truth_points is '" + options.truth_points + "': must be peak, base or both");
   TruthResiduals truth;
+  size_t imu_on_topic = 0;
   for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
     if (SameTopic(m.getTopic(), options.camera_topic)) ++summary.camera_messages;
+    if (SameTopic(m.getTopic(), options.imu_topic)) ++imu_on_topic;
     if ((residuals || exact_peak || exact_base) && SameTopic(m.getTopic(), options.truth_topic)) {
       if (auto msg = m.instantiate<geometry_msgs::PoseStamped>()) {
         const auto& p = msg->pose.position;
@@ -77,6 +98,7 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
       }
     }
   }
+  if (summary.camera_messages == 0 && imu_on_topic == 0) throw std::runtime_error(NothingToReplay(bag, options));
   if (summary.camera_messages == 0) {
     // IMU only: orientation-only mode (gyro + gravity), the IMU frame is the body frame.
     summary.orientation_only = true;
