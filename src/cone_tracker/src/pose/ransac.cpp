@@ -17,26 +17,15 @@ RansacPnpResult Failed(const std::string& why) {
   return r;
 }
 
-cv::Mat CameraMatrix(const CameraModel& c) {
-  return (cv::Mat_<double>(3, 3) << c.fx_px, 0.0, c.cx_px, 0.0, c.fy_px, c.cy_px, 0.0, 0.0, 1.0);
-}
-
-// Raw-pixel reprojection error of every point at T (the lens model included); a point behind the camera
-// gets infinity.
-std::vector<double> Errors(const CameraModel& camera, const std::vector<cv::Point3d>& model,
-                           const std::vector<cv::Point2d>& image, const pose_math::Pose& T) {
+// Raw-pixel reprojection error of every point at T (CameraModel::Project: the lens model included); a point behind
+// the camera gets infinity.
+std::vector<double> Errors(const CameraModel& camera, const std::vector<Eigen::Vector3d>& model,
+                           const std::vector<Eigen::Vector2d>& image, const pose_math::Pose& T) {
   const Eigen::Matrix3d R = RotationOf(T);
-  cv::Mat R_cv, rvec, tvec;
-  cv::eigen2cv(R, R_cv);
-  cv::Rodrigues(R_cv, rvec);
-  cv::eigen2cv(Eigen::Vector3d(T.t), tvec);
-  std::vector<cv::Point2d> projected;
-  cv::projectPoints(model, rvec, tvec, CameraMatrix(camera), camera.distortion, projected);
-  std::vector<double> e(model.size());
-  for (size_t i = 0; i < model.size(); ++i) {
-    const Eigen::Vector3d p_c = R * Eigen::Vector3d(model[i].x, model[i].y, model[i].z) + T.t;
-    e[i] = p_c.z() > 0.0 ? std::hypot(projected[i].x - image[i].x, projected[i].y - image[i].y) : INFINITY;
-  }
+  std::vector<double> e(model.size(), INFINITY);
+  Eigen::Vector2d uv;
+  for (size_t i = 0; i < model.size(); ++i)
+    if (camera.Project(R * model[i] + T.t, &uv)) e[i] = (uv - image[i]).norm();
   return e;
 }
 
@@ -63,9 +52,9 @@ RansacPnpResult SolvePnpRansac(const CameraModel& camera, const std::vector<Eige
   std::vector<int> consensus;
   bool found = false;
   try {
-    found = cv::solvePnPRansac(model, image, CameraMatrix(camera), camera.distortion, rvec, tvec, false,
-                               ransac.max_iterations, float(ransac.threshold_px), ransac.confidence, consensus,
-                               cv::SOLVEPNP_P3P);
+    const cv::Matx33d K(camera.fx_px, 0, camera.cx_px, 0, camera.fy_px, camera.cy_px, 0, 0, 1);
+    found = cv::solvePnPRansac(model, image, K, camera.distortion, rvec, tvec, false, ransac.max_iterations,
+                               float(ransac.threshold_px), ransac.confidence, consensus, cv::SOLVEPNP_P3P);
   } catch (const cv::Exception& e) {
     return Failed(std::string("RANSAC: ") + e.what());
   }
@@ -92,7 +81,7 @@ RansacPnpResult SolvePnpRansac(const CameraModel& camera, const std::vector<Eige
       return r;
     }
     r.inlier = inlier, r.num_inliers = int(m.size());
-    const std::vector<double> e = Errors(camera, model, image, r.pnp.T_camera_model);
+    const std::vector<double> e = Errors(camera, model_points, image_points_px, r.pnp.T_camera_model);
     std::vector<char> again(n, 0);
     for (size_t i = 0; i < n; ++i) again[i] = e[i] < ransac.threshold_px;
     if (again == inlier) break;
