@@ -21,9 +21,12 @@
 #include "pose_ekf/testing/synthetic_rig.h"
 #include "pose_math/rotation.h"
 #include "ros_messages.h"
+#include "tum_file.h"
 
 namespace pose_ekf_test {
 namespace {
+
+constexpr double kBagStartS = 1.0;  // the synthetic rig's t = 0 in the bags: ros::Time cannot be 0 in a bag
 
 // with_cones: the first camera pose (it initialises the filter) and, for every camera event, the default layout's
 // cones seen from the truth with 1 px noise (synthetic_cones.h) instead of the poses, and the true camera pose
@@ -40,14 +43,14 @@ std::string WriteBag(const std::vector<Event>& events, bool with_camera, const s
   tf.transforms[0].transform.rotation.x = kQCameraImu.x();
   tf.transforms[0].transform.rotation.y = kQCameraImu.y();
   tf.transforms[0].transform.rotation.z = kQCameraImu.z();
-  bag.write("/tf_static", ros::Time(1.0), tf);
+  bag.write("/tf_static", ros::Time(kBagStartS), tf);
   std::mt19937 rng(3);
   bool first_pose = true;
   for (const Event& e : events) {
     ros::Time t;
-    t.fromSec(e.stamp_s + 1.0);  // ros::Time cannot be 0 in a bag
+    t.fromSec(e.stamp_s + kBagStartS);
     if (e.is_camera && with_cones) {
-      pose_ekf::ConeFrame f = ObserveCones(e.stamp_s + 1.0, e.truth.T_cones_camera, DefaultCones(), {0, 1, 2},
+      pose_ekf::ConeFrame f = ObserveCones(e.stamp_s + kBagStartS, e.truth.T_cones_camera, DefaultCones(), {0, 1, 2},
                                            DefaultIntrinsics(), 1.0, &rng);
       bag.write("/cone_tracker/observations", t, ObservationsMsg(f));
       geometry_msgs::PoseStamped truth;
@@ -81,17 +84,6 @@ std::vector<Event> FiveSeconds() {
   return GenerateRig(sim);
 }
 
-// t -> pose from a TUM file.
-std::map<long, pose_math::Pose> ReadTum(const std::string& path) {
-  std::map<long, pose_math::Pose> out;
-  std::ifstream f(path);
-  double t, x, y, z, qx, qy, qz, qw;
-  while (f >> t >> x >> y >> z >> qx >> qy >> qz >> qw) {
-    out[std::lround((t - 1.0) * 1000)] = {pose_math::Quat(qw, qx, qy, qz), Eigen::Vector3d(x, y, z)};
-  }
-  return out;
-}
-
 TEST(Replay, WritesATumTrajectoryThatFollowsTheTruth) {
   const std::vector<Event> events = FiveSeconds();
   pose_ekf::ReplayOptions o;
@@ -102,7 +94,7 @@ TEST(Replay, WritesATumTrajectoryThatFollowsTheTruth) {
   const pose_ekf::ReplaySummary s = pose_ekf::RunReplay(o, log);
   EXPECT_FALSE(s.orientation_only);
   EXPECT_EQ(s.imu_rotation_source, "/tf_static camera_optical <- imu") << log.str();
-  const auto tum = ReadTum(o.output_path);
+  const auto tum = ReadTum(o.output_path, kBagStartS);
   EXPECT_EQ(tum.size(), s.poses_written);
   EXPECT_GT(tum.size(), 490u);
   double sum_rot2 = 0.0, sum_pos2 = 0.0;
@@ -252,10 +244,10 @@ TEST(Replay, TruthPointsReplaceTheRecordedPixels) {
   pose_ekf::ReplayOptions o = ConeReplay(events, "pose_ekf_replay_truth_points");
   std::ostringstream log;
   pose_ekf::RunReplay(o, log);
-  const double recorded = PositionRms(ReadTum(o.output_path), events);
+  const double recorded = PositionRms(ReadTum(o.output_path, kBagStartS), events);
   o.truth_points = "both";
   pose_ekf::RunReplay(o, log);
-  const double exact = PositionRms(ReadTum(o.output_path), events);
+  const double exact = PositionRms(ReadTum(o.output_path, kBagStartS), events);
   EXPECT_LT(exact, 0.5 * recorded) << "recorded " << recorded << " m, exact " << exact << " m";
   o.truth_points = "tip";
   try {
@@ -306,7 +298,7 @@ TEST(Replay, ImuOnlyBagRunsOrientationOnly) {
   std::ostringstream log;
   const pose_ekf::ReplaySummary s = pose_ekf::RunReplay(o, log);
   EXPECT_TRUE(s.orientation_only);
-  const auto tum = ReadTum(o.output_path);
+  const auto tum = ReadTum(o.output_path, kBagStartS);
   ASSERT_GT(tum.size(), 490u) << log.str();
   // Orientation-only: the IMU frame is the body, heading is arbitrary; the tilt must match.
   // Truth "up" in the IMU frame: R_imu_camera R_cones_cameraᵀ e_z.

@@ -9,14 +9,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <map>
 #include <sstream>
 
 #include "pose_ekf/node/node_config.h"
 #include "pose_ekf/node/replay.h"
 #include "pose_math/rotation.h"
 #include "rig_model/shared_data.h"
+#include "tum_file.h"
 
 namespace pose_ekf_test {
 namespace {
@@ -49,19 +48,16 @@ TEST_P(ThirdParty, ImuOnlyTiltFollowsTheRobotsOwnEstimate) {
   EXPECT_TRUE(s.orientation_only);
   EXPECT_EQ(s.poses_written, s.imu_messages) << log.str();
 
-  std::map<long, pose_math::Quat> ours;  // by stamp in microseconds
-  std::ifstream f(o.output_path);
-  double t, x, y, z, qx, qy, qz, qw;
-  while (f >> t >> x >> y >> z >> qx >> qy >> qz >> qw) ours[std::lround(t * 1e6)] = pose_math::Quat(qw, qx, qy, qz);
+  const std::map<long, pose_math::Pose> ours = ReadTum(o.output_path, 0.0);  // by stamp in milliseconds
   rosbag::Bag bag(o.bag_path);
   std::vector<double> tilt_deg;
   for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(b.imu_topic))) {
     const sensor_msgs::Imu::ConstPtr imu = m.instantiate<sensor_msgs::Imu>();
-    const auto it = imu ? ours.find(std::lround(imu->header.stamp.toSec() * 1e6)) : ours.end();
+    const auto it = imu ? ours.find(std::lround(imu->header.stamp.toSec() * 1000)) : ours.end();
     if (it == ours.end()) continue;
     const auto& q = imu->orientation;
     const Eigen::Vector3d up_theirs = UpInBody(pose_math::Quat(q.w, q.x, q.y, q.z).normalized());
-    tilt_deg.push_back(std::acos(std::min(1.0, up_theirs.dot(UpInBody(it->second)))) * 180.0 / M_PI);
+    tilt_deg.push_back(std::acos(std::min(1.0, up_theirs.dot(UpInBody(it->second.q)))) * 180.0 / M_PI);
   }
   ASSERT_GT(tilt_deg.size(), s.imu_messages * 9 / 10);
   std::sort(tilt_deg.begin(), tilt_deg.end());
