@@ -139,10 +139,14 @@ OutlineFit FitConeOutline(const std::vector<Run>& runs, const Eigen::Vector2d& p
     if (row_ext[i].first != INT_MAX) pts.emplace_back(row_ext[i].second + 0.5, y_lo + int(i));
   for (size_t i = 0; i < bottom.size(); ++i)
     if (bottom[i] != no_row) pts.emplace_back(x_lo + int(i), bottom[i] + (base_down ? 0.5 : -0.5));
-  pts.push_back(peak_guess), pts.push_back(base_guess);  // undistorted with the outline, in one call
+  // Undistorted with the outline, in one call: the line search's ends, and one raw pixel along the axis from the
+  // peak, which gives the lens's local scale there (undistorted px per raw px).
+  pts.push_back(peak_guess), pts.push_back(base_guess), pts.push_back(peak_guess + dir_guess);
   if (!UndistortPixels(camera, &pts)) return out.why = "undistortion failed", out;
-  const std::vector<Eigen::Vector2d> guesses(pts.end() - 2, pts.end());
-  pts.resize(pts.size() - 2);
+  const std::vector<Eigen::Vector2d> guesses(pts.end() - 3, pts.end());
+  pts.resize(pts.size() - 3);
+  const double raw_px = (guesses[2] - guesses[0]).norm();
+  if (!(raw_px > 0.0)) return out.why = "undistortion failed", out;
   const std::vector<Eigen::Vector2d> left(pts.begin(), pts.begin() + long(nr)),
       right(pts.begin() + long(nr), pts.begin() + long(2 * nr)), arc(pts.begin() + long(2 * nr), pts.end());
   const Eigen::Vector2d peak0 = guesses[0], dir0 = (guesses[1] - guesses[0]).normalized();
@@ -182,14 +186,17 @@ OutlineFit FitConeOutline(const std::vector<Run>& runs, const Eigen::Vector2d& p
   // the blob's farthest pixel toward the peak, not the line search's end: a
   // cone seen obliquely from above leans in the image (more so toward its
   // side edges), its one-pixel-wide tip leaves the blob's principal axis, and
-  // the line search stops up to ~12 px short of it.
+  // the line search stops up to ~12 px short of it. "A pixel" is the sensor's: the gaps are measured in raw
+  // pixels (raw_px undistorted px each), or a small cone's tip where the lens shrinks the image (its corners)
+  // would look cut off.
   double tip = 0.0;
   for (const auto* side : {&left, &right})
     for (const Eigen::Vector2d& p : *side) tip = std::min(tip, (p - peak0).dot(dir0));
   const double tan_half = std::tan(0.5 * std::abs(std::atan(fl.b) - std::atan(fr.b)));
-  const double along = (apex - peak0).dot(dir0) - tip,
-               lateral = std::abs((apex - peak0).dot(Eigen::Vector2d(dir0.y(), -dir0.x())));
-  if (along > 1.5 || along < -(3.0 + 1.0 / std::max(tan_half, 0.02)) || lateral > 3.0 + config.max_apex_gap_frac * h0)
+  const double along = ((apex - peak0).dot(dir0) - tip) / raw_px,
+               lateral = std::abs((apex - peak0).dot(Eigen::Vector2d(dir0.y(), -dir0.x()))) / raw_px;
+  if (along > 1.5 || along < -(3.0 + 1.0 / std::max(tan_half, 0.02)) ||
+      lateral > 3.0 + config.max_apex_gap_frac * h0 / raw_px)
     return out.why = "apex does not fit the tip", out;
   // The axis: the mirror plane's image is the bisector of the edges as unit
   // 3-vectors in normalised coordinates (l_n = K^T l), mapped back (K^-T).

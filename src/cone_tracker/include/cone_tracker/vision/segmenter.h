@@ -59,7 +59,10 @@ struct SegmenterConfig {
   // Gates (3.1.5.3).
   double min_area_px = 30.0;
   double max_area_px = 200000.0;
-  int border_px = 4;  // centroid within this of the edge, or blob touching it: rejected
+  // A blob within this of the edge is rejected (cut by it). 1: the silhouette's mixed edge pixels may fail
+  // the colour test, so a cone cut by the edge can end one pixel short of it; a wider margin refused whole
+  // cones coming into view (cone_tracker README, "Cones at the image's edge").
+  int border_px = 1;
   // A cone whose silhouette runs on past its base out of the image, over a collar no longer than
   // merge_band_gap_frac (cut_cone.h: its min_contrast), fails the border gate too; 0: no such test.
   int cut_cone_contrast = 40;
