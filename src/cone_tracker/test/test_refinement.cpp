@@ -13,6 +13,7 @@
 #include "cone_tracker/vision/cone_pose.h"
 #include "cone_tracker/vision/segmenter.h"
 #include "pose_math/rotation.h"
+#include "rig_model/layout.h"
 
 namespace cone_tracker {
 namespace {
@@ -98,13 +99,8 @@ void Score(const SimFrame& f, const rig_sim::Scene& scene, const SegmentationRes
   for (size_t i : Eligible(f, scene)) ScoreCone(f.truth[i], r, e);
 }
 
-rig_sim::Scene AsymmetricLayout() {  // rig_model's config/layouts/asymmetric.yaml
-  rig_sim::Scene scene;
-  scene.cones = {rig_sim::MakeCone({1.00, 0.00, 0.0}, 0.71, rig_sim::ConeStyle::kRoad),
-                 rig_sim::MakeCone({-0.40, 0.85, 0.0}, 0.71, rig_sim::ConeStyle::kRoad),
-                 rig_sim::MakeCone({-0.60, -0.85, 0.0}, 0.46, rig_sim::ConeStyle::kRoad)};
-  return scene;
-}
+// The evaluations' layout (eval_tracking.sh, the look_away recordings the views below come from).
+rig_sim::Scene AsymmetricLayout() { return rig_model::LoadLayoutFile(RIG_MODEL_LAYOUTS_DIR "/asymmetric.yaml"); }
 
 // A camera pose (q, eye in the cones frame: rig_sim/ground_truth) turned about the vertical in steps of 1 degree
 // over [from_deg, to_deg], 512x384 as in the evaluations: every view that has the cone wholly in the image (8 px
