@@ -72,13 +72,6 @@ TEST(ConeBuffer, PoseOfAFrameWithConesIsNotFusedAgain) {
   EXPECT_DOUBLE_EQ(no_cones.stats.mean_nees, reference.mean_nees);
 }
 
-// An IMU sample of a rig held still at pose T: no rotation, the specific force of gravity alone.
-pose_ekf::ImuMeasurement StillImu(const pose_math::Pose& T, const EkfConfig& c) {
-  pose_ekf::ImuMeasurement imu;
-  imu.accel_camera_m_s2 = pose_math::RotationFromQuat(T.q).transpose() * Eigen::Vector3d(0, 0, c.gravity_m_s2);
-  return imu;
-}
-
 // Re-acquisition: rejected cone frames in a row, or a large position sigma, make the next pose
 // re-initialise the filter; that image's cones are then not fused as well.
 TEST(ConeBuffer, RejectedFramesInARowAndALargeSigmaReacquireFromThePose) {

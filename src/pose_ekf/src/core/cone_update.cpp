@@ -303,6 +303,15 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
   if (!config_.use_camera) return UpdateResult::kDisabled;
   if (!initialized_ || f.cones.empty()) return UpdateResult::kDisabled;
   if (!CheckConeFrame(f).empty()) return UpdateResult::kRejectedNonFinite;
+  // 0. The same view as the last fused frame: the same pixel errors again, not fused; what it does tell is that the
+  // camera has not moved (README, "Repeated views").
+  if (config_.cone_repeat_px > 0.0 &&
+      RepeatsView(s_.fused_view, f, config_.cone_repeat_px, config_.cone_repeat_max_s)) {
+    res.repeated = true;
+    UpdateStill(config_.cone_repeat_sigma_v_m_s, config_.cone_repeat_sigma_omega_rad_s);
+    if (out) *out = res;
+    return UpdateResult::kDisabled;
+  }
   const FilterState prior = s_;
   // 1. Per cone against the prior: the image-space gate of 6.4.1, on the filter's own S.
   std::vector<int> candidates;
@@ -425,6 +434,7 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
     if (nis_sum <= res.joint_threshold) {
       res.fused = k;
       res.nis = nis_sum;
+      NoteFusedView(f, candidates, &s_.fused_view);
       result = UpdateResult::kApplied;
       break;
     }

@@ -70,6 +70,10 @@ std::string EkfConfig::Validate() const {
   if (cone_update_iterations < 0 || cone_update_iterations > 20) {
     err << "cone_update_iterations must be in [0, 20], 0 updates once (got " << cone_update_iterations << "); ";
   }
+  Check(err, "cone_repeat_px", cone_repeat_px, 0.0, true);
+  Check(err, "cone_repeat_max_s", cone_repeat_max_s, 0.0, false);
+  Check(err, "cone_repeat_sigma_v_m_s", cone_repeat_sigma_v_m_s, 0.0, false);
+  Check(err, "cone_repeat_sigma_omega_rad_s", cone_repeat_sigma_omega_rad_s, 0.0, false);
   if (reacquire_min_cones < 1) {
     err << "reacquire_min_cones must be >= 1, 1 fuses lone cones while re-acquiring (got " << reacquire_min_cones
         << "); ";

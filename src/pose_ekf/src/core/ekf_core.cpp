@@ -66,6 +66,7 @@ bool EkfCore::Initialize(const CameraMeasurement& m) {
 
 void EkfCore::InitializeUnmeasured(int n) {
   s_.omega_walk_pending_s = 0.0;  // P(ω) starts from init_sigma_omega_rad_s
+  s_.fused_view = FusedConeView{};
   auto set_diag = [&](int i, double sigma) { s_.P.block<3, 3>(i, i) = sigma * sigma * Eigen::Matrix3d::Identity(); };
   set_diag(kW, config_.init_sigma_omega_rad_s);
   set_diag(kV, config_.init_sigma_v_m_s);

@@ -1,5 +1,5 @@
 // EkfCore::UpdateGyro (5.27)-(5.29) and UpdateAccel (5.30)-(5.39), with the lever arm's angular
-// acceleration. Update<3> is instantiated here (ekf_update.h).
+// acceleration, and UpdateStill. Update<3> is instantiated here (ekf_update.h).
 #include <cmath>
 
 #include "ekf_update.h"
@@ -29,6 +29,21 @@ UpdateResult EkfCore::UpdateGyro(const ImuMeasurement& m, double* nis) {
   const UpdateResult result = Update<3>(y, H, R, nis);
   if (result == UpdateResult::kApplied) NoteAngularAcceleration();
   return result;
+}
+
+// z = 0 for the velocity and the angular rate (beyond the thesis): pseudo-measurements of a still camera, z - h = -v
+// and -ω, H = [0 I 0] for each. ω = 0 also lets the gyro's next sample show its bias.
+UpdateResult EkfCore::UpdateStill(double sigma_v_m_s, double sigma_omega_rad_s) {
+  if (!initialized_ || !(sigma_v_m_s > 0.0) || !(sigma_omega_rad_s > 0.0)) return UpdateResult::kDisabled;
+  const int n = static_cast<int>(s_.x.size());
+  Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, kMaxStates> H = Eigen::MatrixXd::Zero(3, n);
+  H.block<3, 3>(0, kV).setIdentity();
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const UpdateResult v = Update<3>(-s_.x.segment<3>(kV), H, Eigen::Matrix3d(sigma_v_m_s * sigma_v_m_s * I), nullptr);
+  if (v != UpdateResult::kApplied) return v;
+  H.setZero();
+  H.block<3, 3>(0, kW).setIdentity();
+  return Update<3>(-s_.x.segment<3>(kW), H, Eigen::Matrix3d(sigma_omega_rad_s * sigma_omega_rad_s * I), nullptr);
 }
 
 UpdateResult EkfCore::UpdateAccel(const ImuMeasurement& m, double* nis) {

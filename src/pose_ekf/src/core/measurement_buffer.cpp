@@ -41,6 +41,8 @@ const char* ToString(AddResult r) {
       return "superseded (the same image was fused once)";
     case AddResult::kNotUsed:
       return "not used (camera_update)";
+    case AddResult::kRepeated:
+      return "not fused (the same view as the last fused frame, cone_repeat_px)";
   }
   return "?";
 }
@@ -250,9 +252,11 @@ AddResult MeasurementBuffer::Add(Entry e) {
     }
   }
   const bool superseded = history_[i].superseded;
+  const bool repeated = history_[i].is_cones && camera == UpdateResult::kDisabled && last_cone_frame_.repeated;
   Trim();
   if (camera == UpdateResult::kGated) return AddResult::kGated;
   if (superseded) return AddResult::kSuperseded;
+  if (repeated) return AddResult::kRepeated;
   return at_end ? AddResult::kApplied : AddResult::kReplayed;
 }
 
@@ -373,6 +377,7 @@ void MeasurementBuffer::TallyCones(UpdateResult r, const ConeFrameResult& res) {
   counters_.cones_joint_dropped += static_cast<uint64_t>(res.joint_dropped);
   counters_.cones_behind_camera += static_cast<uint64_t>(res.behind_camera);
   if (res.gated + res.joint_dropped + res.behind_camera > 0) counters_.cone_last_rejected_chi2 = res.worst_gate_chi2;
+  if (res.repeated) ++counters_.cone_frames_repeated;
   if (r == UpdateResult::kApplied) {
     ++counters_.cone_frames_applied;
     ++counters_.cone_nis_count;

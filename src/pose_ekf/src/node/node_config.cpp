@@ -95,6 +95,11 @@ const Table& Params() {
       .Add("cone_ambiguity_iterations", [](NodeConfig& c) -> int& { return c.ekf.cone_ambiguity_iterations; })
       .Add("cone_miss_cost", [](NodeConfig& c) -> double& { return c.ekf.cone_miss_cost; })
       .Add("cone_update_iterations", [](NodeConfig& c) -> int& { return c.ekf.cone_update_iterations; })
+      .Add("cone_repeat_px", [](NodeConfig& c) -> double& { return c.ekf.cone_repeat_px; })
+      .Add("cone_repeat_max_s", [](NodeConfig& c) -> double& { return c.ekf.cone_repeat_max_s; })
+      .Add("cone_repeat_sigma_v_m_s", [](NodeConfig& c) -> double& { return c.ekf.cone_repeat_sigma_v_m_s; })
+      .Add("cone_repeat_sigma_omega_rad_s",
+           [](NodeConfig& c) -> double& { return c.ekf.cone_repeat_sigma_omega_rad_s; })
       .Add("layout_file", [](NodeConfig& c) -> std::string& { return c.layout_file; })
       // Options beyond the thesis, initial uncertainty and the measurement buffer (section 6.3).
       .Add("estimate_gyro_bias", [](NodeConfig& c) -> bool& { return c.ekf.estimate_gyro_bias; })

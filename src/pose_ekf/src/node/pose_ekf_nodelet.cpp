@@ -332,6 +332,7 @@ void PoseEkfNodelet::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   stat.add("cone frames rejected (no cone passed the gates)", c.cone_frames_rejected);
   stat.add("cone frames not fused while re-acquiring (fewer than reacquire_min_cones)", c.cone_frames_too_few);
   stat.add("lone cones not fused (another layout cone fits nearly as well)", c.cone_frames_ambiguous);
+  stat.add("cone frames not fused (the same view as the last fused one, cone_repeat_px)", c.cone_frames_repeated);
   stat.add("cones fused", c.cones_applied);
   stat.add("cones rejected (chi2 gate)", c.cones_gated);
   stat.add("cones dropped (joint chi2 check of their frame)", c.cones_joint_dropped);

@@ -234,7 +234,7 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
       << " cone observation messages: cones fused " << c.cones_applied << ", gated " << c.cones_gated
       << ", joint-dropped " << c.cones_joint_dropped << ", refused " << adapter.observations_rejected() << " + "
       << adapter.cones_refused_nan() + adapter.cones_refused_invalid() << ", poses not fused (their cones were) "
-      << c.poses_superseded << "\n";
+      << c.poses_superseded << ", frames repeating the last fused view " << c.cone_frames_repeated << "\n";
   if (residuals) log << "ekf_replay: " << truth.Summary() << "\n";
   summary.camera_gated = c.camera_gated;
   summary.reinits = c.reinits;

@@ -143,6 +143,12 @@ pose_math::Pose ConeRigStart() {
   return GenerateRig(sim).front().truth.T_cones_camera;
 }
 
+pose_ekf::ImuMeasurement StillImu(const pose_math::Pose& T, const pose_ekf::EkfConfig& c) {
+  pose_ekf::ImuMeasurement imu;
+  imu.accel_camera_m_s2 = pose_math::RotationFromQuat(T.q).transpose() * Eigen::Vector3d(0, 0, c.gravity_m_s2);
+  return imu;
+}
+
 pose_ekf::EkfCore Tight(const pose_ekf::EkfConfig& c, double sigma_p_m) {
   pose_ekf::EkfCore ekf{c};
   if (!ekf.Initialize(Camera(0.0, ConeRigStart(), 0.001, 0.001)))

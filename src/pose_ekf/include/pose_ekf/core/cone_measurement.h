@@ -88,6 +88,22 @@ bool ProjectCone(const StateVector& x, const ConeGeometry& cone, const PinholeIn
 ConeMatrix ConeCovariance(const ConeObservation& o);
 ConeVector ConePixels(const ConeObservation& o);
 
+// The pixels of the last fused cone frame, for EkfConfig::cone_repeat_px: a fixed array, as it is part of the
+// filter's state, which the measurement buffer copies at every IMU sample. A frame with more fused cones keeps the
+// first kMaxViewCones; a later frame with any of the others then never repeats it.
+constexpr int kMaxViewCones = 16;
+struct FusedConeView {
+  double stamp_s = 0.0;
+  int count = 0;  // 0: none since the filter (re-)initialised
+  std::array<int, kMaxViewCones> cone_id{};
+  std::array<std::array<double, kConeDof>, kMaxViewCones> z{};  // ConePixels (plain doubles: zero-initialised)
+};
+// Whether f shows only cones of `view`, each measured point (ConePixels) less than max_px from where `view` had it,
+// less than max_s after it: the same view again, whose pixel errors are the view's own (README, "Repeated views").
+bool RepeatsView(const FusedConeView& view, const ConeFrame& f, double max_px, double max_s);
+// `view` := the cones `fused` (indices into f.cones) of f.
+void NoteFusedView(const ConeFrame& f, const std::vector<int>& fused, FusedConeView* view);
+
 // What EkfCore::UpdateCones did with one frame.
 struct ConeFrameResult {
   int fused = 0;          // cones fused
@@ -97,6 +113,7 @@ struct ConeFrameResult {
   int numerical = 0;      // S not positive definite
   int too_few = 0;        // cones that passed but were fewer than min_cones (re-acquisition): not fused
   int ambiguous = 0;      // a lone cone that another layout cone explains nearly as well: not fused
+  bool repeated = false;  // the same view as the last fused frame (EkfConfig::cone_repeat_px): not fused
   double nis = 0.0;       // the fused cones' joint NIS (the sum of the sequential ones)
   double joint_threshold = 0.0;
   double worst_gate_chi2 = 0.0;  // the largest per-cone statistic of the frame

@@ -116,6 +116,18 @@ struct EkfConfig {
   // ~0.03 m, and the next cone's NIS, taken at that state, may fail the frame's joint check. The
   // per-cone gates keep their first-order statistics at the prior. 0 = the EKF's single update.
   int cone_update_iterations = 3;
+  // A cone frame that shows only cones of the last fused frame, each of its points less than this many pixels
+  // from where that frame had it, is the same view again: its pixel errors are that frame's errors (the segmentation
+  // of a still image repeats itself), so fusing it as independent makes the filter sure of them, and the biases
+  // learn them (README, "Repeated views"). Such a frame is not fused, unless cone_repeat_max_s have passed since the
+  // last fused one; it is a still camera instead: zero velocity and angular rate, to cone_repeat_sigma_v_m_s and
+  // cone_repeat_sigma_omega_rad_s per axis (keep them above the motion that moves a cone's points cone_repeat_px in
+  // a frame period: cone_repeat_px * depth * frame rate / fx, and cone_repeat_px * frame rate / fx). 0 = every
+  // frame is fused.
+  double cone_repeat_px = 0.0;
+  double cone_repeat_max_s = 1.0;
+  double cone_repeat_sigma_v_m_s = 0.01;
+  double cone_repeat_sigma_omega_rad_s = 0.002;
 
   // Options beyond the thesis.
   QuatIntegration quat_integration = QuatIntegration::kFirstOrder;

@@ -27,6 +27,7 @@ struct FilterState {
   Eigen::Vector3d alpha_camera_rad_s2 = Eigen::Vector3d::Zero();
   double last_imu_stamp_s = -1.0;     // the last IMU sample's stamp (gyro_is_centred_interval_mean); < 0: none
   double omega_walk_pending_s = 0.0;  // omega_walk_at_gyro: prediction time whose ω random walk is not in P yet
+  FusedConeView fused_view;           // the last fused cone frame's pixels (EkfConfig::cone_repeat_px)
 };
 
 class EkfCore {
@@ -70,7 +71,13 @@ class EkfCore {
   // rest retried). kApplied if at least min_cones cones were fused together, kGated if the gates (or a
   // prediction behind the camera) left fewer; the state is unchanged unless kApplied. min_cones > 1 is
   // re-acquisition (MeasurementBuffer, EkfConfig::reacquire_min_cones): a lone cone is not trusted then.
+  // A frame that repeats the last fused frame's view (EkfConfig::cone_repeat_px, RepeatsView) is not fused: it
+  // returns kDisabled with result->repeated, after UpdateStill (cone_repeat_sigma_v_m_s, cone_repeat_sigma_omega_rad_s)
+  // of the camera it shows still.
   UpdateResult UpdateCones(const ConeFrame& f, ConeFrameResult* result = nullptr, int min_cones = 1);
+  // The camera's velocity and angular rate are zero, to these sigmas per axis (pseudo-measurements; kDisabled
+  // unless both are positive).
+  UpdateResult UpdateStill(double sigma_v_m_s, double sigma_omega_rad_s);
   double cone_gate_chi2() const { return cone_gate_chi2_; }
   double cone_joint_chi2(int cones) const;
 

@@ -27,6 +27,7 @@ enum class AddResult {
   // Tightly coupled path (camera_update, cone_measurement.h):
   kSuperseded,  // not fused: the same image's cone observations were (pose), or its pose initialised the filter (cones)
   kNotUsed,     // cone observations with camera_update = pose (or the camera switched off, or no cones)
+  kRepeated,    // cone observations of the same view as the last fused ones (EkfConfig::cone_repeat_px)
 };
 const char* ToString(AddResult r);
 
@@ -59,6 +60,7 @@ struct BufferCounters {
   uint64_t reacquisitions = 0;                  // poses that re-initialised the filter in cones mode (also in reinits)
   uint64_t cone_frames_too_few = 0;             // re-acquiring: fewer than reacquire_min_cones cones passed, none fused
   uint64_t cone_frames_ambiguous = 0;           // a lone cone another layout cone fits nearly as well: not fused
+  uint64_t cone_frames_repeated = 0;            // the same view as the last fused frame (cone_repeat_px): not fused
   uint64_t cone_nis_count = 0;
   double cone_nis_sum = 0.0, cone_nis_last = 0.0;  // the joint NIS of a fused frame
 };

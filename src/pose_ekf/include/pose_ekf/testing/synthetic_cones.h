@@ -31,6 +31,8 @@ pose_ekf::ConeFrame ObserveCones(double stamp_s, const pose_math::Pose& T_cones_
 pose_ekf::EkfConfig ConeSimConfig();
 // The synthetic rig's first true pose: 2.6 m from the cones, looking at them.
 pose_math::Pose ConeRigStart();
+// An IMU sample of a rig held still at pose T: no rotation, the specific force of gravity alone.
+pose_ekf::ImuMeasurement StillImu(const pose_math::Pose& T, const pose_ekf::EkfConfig& c);
 // A filter initialised at ConeRigStart with a tight prior (1 mm, 1 mrad): S is then about R per cone. With
 // sigma_p_m > 0 its position sigma is that on every axis instead (a filter after an outage).
 pose_ekf::EkfCore Tight(const pose_ekf::EkfConfig& c, double sigma_p_m = 0.0);
