@@ -111,6 +111,15 @@ class SceneTest(unittest.TestCase):
         waiting = {"message": "waiting for the first camera pose", "camera updates": "0", "camera NIS mean": "0"}
         self.assertEqual(rc.check_ekf(waiting).level, rc.FAIL)
         self.assertEqual(rc.check_ekf(None).level, rc.FAIL)
+        # camera_update cones: the cones' NIS per dof decides, not the pose NIS of the few poses fused.
+        cones = dict(base, **{"camera update path": "cones", "cone frames fused": "300", "camera NIS mean": "27"})
+        self.assertEqual(rc.check_ekf(dict(cones, **{"cone NIS mean per dof": "0.9"})).level, rc.PASS)
+        self.assertEqual(rc.check_ekf(dict(cones, **{"cone NIS mean per dof": "3"})).level, rc.WARN)
+        self.assertEqual(rc.check_ekf(dict(cones, **{"cone NIS mean per dof": "5"})).level, rc.FAIL)
+        self.assertIn("cone NIS mean per dof 0.90", rc.check_ekf(dict(cones, **{"cone NIS mean per dof": "0.9"})).detail)
+        # No cone frame fused yet (only the initialising pose): the pose NIS, as in pose mode.
+        no_cones = dict(cones, **{"cone frames fused": "0", "camera NIS mean": "5.8"})
+        self.assertEqual(rc.check_ekf(no_cones).level, rc.PASS)
 
 
 class ClockTest(unittest.TestCase):

@@ -114,6 +114,7 @@ TEST(ConeRepeat, AStillViewIsFusedOncePerMaxIntervalAndHoldsTheRigStill) {
   EXPECT_EQ(on.results[34], AddResult::kApplied);
   // A repeat is not a rejection: it does not count toward re-acquisition.
   EXPECT_EQ(on.n.cone_frames_rejected, 0u);
+  EXPECT_EQ(on.n.cone_nis_dof, 2u * 3u * pose_ekf::kConeDof);  // the NIS of the fused frames only
   EXPECT_EQ(off.n.cone_frames_applied, 50u);
   EXPECT_EQ(off.n.cone_frames_repeated, 0u);
   // The still camera's updates hold the position where the frames put it, as the fused frames do without the rule.

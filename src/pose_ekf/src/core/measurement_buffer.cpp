@@ -382,6 +382,7 @@ void MeasurementBuffer::TallyCones(UpdateResult r, const ConeFrameResult& res) {
     ++counters_.cone_frames_applied;
     ++counters_.cone_nis_count;
     counters_.cone_nis_sum += res.nis;
+    counters_.cone_nis_dof += static_cast<uint64_t>(kConeDof * res.fused);
     counters_.cone_nis_last = res.nis;
   } else if (r == UpdateResult::kGated) {
     ++counters_.cone_frames_rejected;

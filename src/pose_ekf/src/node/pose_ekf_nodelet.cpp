@@ -341,6 +341,8 @@ void PoseEkfNodelet::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   stat.add("cone chi2 of the last rejection", c.cone_last_rejected_chi2);
   stat.add("cone NIS last (frame)", c.cone_nis_last);
   stat.add("cone NIS mean (frame)", c.cone_nis_count ? c.cone_nis_sum / c.cone_nis_count : 0.0);
+  // Frames fuse one to many cones: per degree of freedom a consistent filter's NIS averages 1 (rig_check reads it).
+  stat.add("cone NIS mean per dof", c.cone_nis_dof ? c.cone_nis_sum / static_cast<double>(c.cone_nis_dof) : 0.0);
   stat.add("cone observations refused (frame, stamp, intrinsics, no layout)", adapter_->observations_rejected());
   stat.add("cones refused (NaN pixel or covariance)", adapter_->cones_refused_nan());
   stat.add("cones refused (unknown cone_id, bad covariance)", adapter_->cones_refused_invalid());

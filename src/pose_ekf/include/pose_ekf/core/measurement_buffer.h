@@ -63,6 +63,7 @@ struct BufferCounters {
   uint64_t cone_frames_repeated = 0;            // the same view as the last fused frame (cone_repeat_px): not fused
   uint64_t cone_nis_count = 0;
   double cone_nis_sum = 0.0, cone_nis_last = 0.0;  // the joint NIS of a fused frame
+  uint64_t cone_nis_dof = 0;                       // the degrees of freedom of cone_nis_sum (kConeDof per fused cone)
 };
 
 class MeasurementBuffer {
