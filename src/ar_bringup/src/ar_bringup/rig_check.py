@@ -16,8 +16,8 @@ IMU_RATE_HZ = 100.0
 IMU_RATE_TOLERANCE = 0.05
 MIN_CONES = 3
 MAX_CLOCK_OFFSET_S = 0.020
-# EKF camera NIS mean: PASS within [0.25, 2] x dof, WARN outside, FAIL above 4 x dof (the cones' NIS per dof, x 6, in
-# cones mode).
+# EKF NIS mean per degree of freedom (the camera pose's over its 6, or the cones' in cones mode): PASS within
+# [0.25, 2], WARN outside, FAIL above 4.
 NIS_DOF = 6
 NIS_LOW_FACTOR, NIS_HIGH_FACTOR, NIS_FAIL_FACTOR = 0.25, 2.0, 4.0
 
@@ -152,23 +152,23 @@ def check_ekf(status):
         return Result(FAIL, name, "not initialised: %s" % status.get("message", ""),
                       "it starts on the first camera pose: get 3 cones in view")
     # camera_update cones: the frames' cones are fused, their poses mostly not (only the first, and those that reach
-    # it before their cones): the cones' NIS per degree of freedom is the filter's consistency, about 1.
+    # it before their cones): the cones' NIS per degree of freedom is the filter's consistency. The camera pose is a
+    # 6-dof measurement. Either way a consistent filter's NIS per dof averages 1 (chi-square mean / dof).
     cones = status.get("camera update path") == "cones"
     try:
         fused = int(float(status.get("cone frames fused", 0))) if cones else 0
-        nis = float(status["cone NIS mean per dof"]) * NIS_DOF if fused else float(status["camera NIS mean"])
+        per_dof = float(status["cone NIS mean per dof"]) if fused else float(status["camera NIS mean"]) / NIS_DOF
     except (KeyError, ValueError):
         return Result(WARN, name, "initialised, %d camera updates; no NIS in its diagnostics" % updates, "")
     if fused:
-        detail = "initialised, %d cone frames fused, cone NIS mean per dof %.2f (expected about 1)" % (
-            fused, nis / NIS_DOF)
+        detail = "initialised, %d cone frames fused, cone NIS mean per dof %.2f (expected about 1)" % (fused, per_dof)
     else:
-        # The camera pose is a 6-dof measurement: a consistent filter's NIS averages 6 (chi-square mean).
-        detail = "initialised, %d camera updates, camera NIS mean %.2f (expected about %d)" % (updates, nis, NIS_DOF)
-    if not math.isfinite(nis) or nis > NIS_FAIL_FACTOR * NIS_DOF:
+        detail = "initialised, %d camera updates, camera NIS mean %.2f (expected about %d)" % (
+            updates, per_dof * NIS_DOF, NIS_DOF)
+    if not math.isfinite(per_dof) or per_dof > NIS_FAIL_FACTOR:
         return Result(FAIL, name, detail, "the camera noise is underestimated or a calibration is off: check the "
                       "camera and camera-IMU calibrations, then cone_tracker's sigma_px")
-    if nis < NIS_LOW_FACTOR * NIS_DOF or nis > NIS_HIGH_FACTOR * NIS_DOF:
+    if per_dof < NIS_LOW_FACTOR or per_dof > NIS_HIGH_FACTOR:
         return Result(WARN, name, detail, "tune cone_tracker's sigma_px (NIS low: noise overestimated; high: "
                       "underestimated)")
     return ok(name, detail)
