@@ -219,18 +219,22 @@ TEST_F(BadInput, TfPredictionAndMotionGate) {
   // frames are 0.7 s apart: more than prediction_max_age_s (0.5 s), so an older transform is never
   // taken for this one's, less than reacquire_after_s, so the track is never lost in between.
   ros::Time stamp = ros::Time::now();
-  auto frame_with_tf = [&](const Eigen::Vector3d& dp_m) -> ConeDetections::ConstPtr {
+  // With pan_rad_s != 0, pose_ekf lags the image instead: its two newest transforms are 30 and 10 ms older than the
+  // frame, of a camera panning at that rate about its y axis that reaches the truth at the frame's stamp.
+  auto frame_with_tf = [&](const Eigen::Vector3d& dp_m, double pan_rad_s = 0.0) -> ConeDetections::ConstPtr {
     for (int attempt = 0; attempt < 50; ++attempt) {
       stamp += ros::Duration(0.7);
-      geometry_msgs::TransformStamped t;
-      t.header.stamp = stamp, t.header.frame_id = "cones", t.child_frame_id = "camera_optical";
-      const Eigen::Quaterniond q(truth.R_cones_camera);
-      t.transform.rotation.w = q.w(), t.transform.rotation.x = q.x(), t.transform.rotation.y = q.y();
-      t.transform.rotation.z = q.z();
-      const Eigen::Vector3d p = truth.p_camera_in_cones_m + dp_m;
-      t.transform.translation.x = p.x(), t.transform.translation.y = p.y(), t.transform.translation.z = p.z();
       tf2_msgs::TFMessage msg;
-      msg.transforms.push_back(t);
+      for (double dt_s : pan_rad_s == 0.0 ? std::vector<double>{0.0} : std::vector<double>{-0.03, -0.01}) {
+        geometry_msgs::TransformStamped t;
+        t.header.stamp = stamp + ros::Duration(dt_s), t.header.frame_id = "cones", t.child_frame_id = "camera_optical";
+        const Eigen::Quaterniond q(truth.R_cones_camera * Eigen::AngleAxisd(pan_rad_s * dt_s, Eigen::Vector3d::UnitY()));
+        t.transform.rotation.w = q.w(), t.transform.rotation.x = q.x(), t.transform.rotation.y = q.y();
+        t.transform.rotation.z = q.z();
+        const Eigen::Vector3d p = truth.p_camera_in_cones_m + dp_m;
+        t.transform.translation.x = p.x(), t.transform.translation.y = p.y(), t.transform.translation.z = p.z();
+        msg.transforms.push_back(t);
+      }
       tf_pub.publish(msg);
       SpinUntil([] { return false; }, 0.3);  // usually enough for the nodelet's tf buffer; if not, sent again
       Send(Frame(scene, truth), stamp);
@@ -286,6 +290,18 @@ TEST_F(BadInput, TfPredictionAndMotionGate) {
   EXPECT_GE(rig_.status.Value("rejected by motion gate"), 1.0);
   EXPECT_FALSE(PosePublished());
   ASSERT_TRUE(rig_.Reconfigure({{"max_translation_change_m", 0.5}}));
+
+  // pose_ekf 10 ms behind a camera panning at 3 rad/s: its newest pose is 1.7 deg off, beyond a 0.5 deg motion gate.
+  // Carried on to the image stamp at the rate of the two, it is the truth, and the pose passes.
+  ASSERT_TRUE(rig_.Reconfigure({{"max_rotation_change_deg", 0.5}}));
+  const double extrapolated = rig_.status.Value("tf predictions extrapolated to the image stamp");
+  d = frame_with_tf(Eigen::Vector3d::Zero(), 3.0);
+  ASSERT_TRUE(d);
+  EXPECT_TRUE(d->motion_passed) << d->status;
+  EXPECT_LT(d->rotation_change_deg, 0.3);
+  EXPECT_TRUE(d->pose_published) << d->status;
+  ASSERT_TRUE(SpinUntil([&] { return rig_.status.Value("tf predictions extrapolated to the image stamp") > extrapolated; }, 10.0));
+  ASSERT_TRUE(rig_.Reconfigure({{"max_rotation_change_deg", 30.0}}));
 }
 
 }  // namespace

@@ -77,6 +77,17 @@ PoseWithCovariance Compose(const PoseWithCovariance& T_a_b, const PoseWithCovari
   return OnTangent(Compose(T_a_b.pose, T_b_c.pose), Propagate(J_ab, T_a_b.cov) + Propagate(J_bc, T_b_c.cov));
 }
 
+Pose ExtrapolateConstantRate(const Pose& T_a_b_prev, double t_prev_s, const Pose& T_a_b_new, double t_new_s,
+                             double t_s) {
+  const double span_s = t_new_s - t_prev_s;
+  if (!(span_s > 0.0)) return T_a_b_new;
+  const double s = (t_s - t_new_s) / span_s;
+  // R_new = R_prev Exp(r): r is the body-frame rotation over the span, applied again s times.
+  const Eigen::Vector3d r = RotationVectorFromQuat(Multiply(Conjugate(T_a_b_prev.q), T_a_b_new.q));
+  return {NormalizedQuat(Multiply(T_a_b_new.q, QuatFromRotationVector(s * r)), "ExtrapolateConstantRate"),
+          T_a_b_new.t + s * (T_a_b_new.t - T_a_b_prev.t)};
+}
+
 double RotationErrorRad(const Pose& a, const Pose& b) {
   const Quat d = Multiply(Conjugate(NormalizedQuat(a.q, "RotationErrorRad")), NormalizedQuat(b.q, "RotationErrorRad"));
   return 2.0 * std::atan2(d.tail<3>().norm(), std::abs(d[0]));

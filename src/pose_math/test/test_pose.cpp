@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include "pose_math/covariance.h"
 #include "pose_math/pose.h"
 #include "pose_math/rotation.h"
@@ -23,6 +25,23 @@ TEST(Pose, InvertKnownValue) {
   const Eigen::Vector3d p_cone(0.3, -0.1, 0.2);
   const Eigen::Vector3d p_cam = Transform(T_camera_cones, p_cone);
   EXPECT_LT((Transform(T_cones_camera, p_cam) - p_cone).norm(), 1e-15);
+}
+
+TEST(Pose, ExtrapolateConstantRateIsExactForConstantRates) {
+  // A body turning at a constant body rate and moving at a constant velocity: R(t) = R0 Exp(w t), p(t) = p0 + v t.
+  test::Random rnd(21);
+  const Eigen::Matrix3d R0 = RotationFromQuat(rnd.UnitQuat());
+  const Eigen::Vector3d w(0.4, -1.9, 0.7), v(0.3, -0.2, 1.1), p0 = rnd.Vector3(2.0);
+  const auto at = [&](double t) {
+    return Pose{QuatFromRotation(R0 * Eigen::AngleAxisd(w.norm() * t, w.normalized()).toRotationMatrix()), p0 + v * t};
+  };
+  const Pose T = ExtrapolateConstantRate(at(0.02), 0.02, at(0.03), 0.03, 0.048);
+  EXPECT_LT(RotationErrorRad(T, at(0.048)), 1e-12);
+  EXPECT_LT(TranslationError(T, at(0.048)), 1e-12);
+  // No span to take rates from: the newest pose as it is.
+  const Pose same = ExtrapolateConstantRate(at(0.03), 0.03, at(0.02), 0.02, 0.048);
+  EXPECT_LT(RotationErrorRad(same, at(0.02)), 1e-15);
+  EXPECT_LT(TranslationError(same, at(0.02)), 1e-15);
 }
 
 TEST(Pose, ComposeWithInverseIsIdentity) {

@@ -41,7 +41,8 @@ void TrackerAdapter::FillObservations(const sensor_msgs::Image& im, const std::o
     a.miss_cost = config_.association_miss_cost;
     a.prediction_sigma_rad = config_.prediction_sigma_deg * M_PI / 180.0;
     if (pred_cov_ros) {
-      // pose_ekf's own covariance, plus the prediction's error beyond it (prediction_sigma_*).
+      // pose_ekf's own covariance, plus the prediction's error beyond it (tf_prediction_sigma_deg, prediction_sigma_m).
+      a.prediction_sigma_rad = config_.tf_prediction_sigma_deg * M_PI / 180.0;
       a.prediction_cov = AssociationPrior(pred->q, *pred_cov_ros);
       a.prediction_cov->diagonal() += Eigen::Matrix<double, 6, 1>(
           (Eigen::Matrix<double, 6, 1>() << Eigen::Vector3d::Constant(a.prediction_sigma_rad * a.prediction_sigma_rad),

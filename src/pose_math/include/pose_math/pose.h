@@ -53,6 +53,11 @@ void ComposeJacobians(const Pose& T_a_b, const Pose& T_b_c, Matrix7d* J_wrt_ab, 
 PoseWithCovariance Invert(const PoseWithCovariance& T_a_b);
 PoseWithCovariance Compose(const PoseWithCovariance& T_a_b, const PoseWithCovariance& T_b_c);
 
+// T_a_b at time t from two earlier poses of b in a (t_prev_s < t_new_s <= t_s): b keeps the body rate and the
+// velocity it had between them (constant-rate extrapolation). With t_new_s <= t_prev_s, T_a_b_new unchanged.
+Pose ExtrapolateConstantRate(const Pose& T_a_b_prev, double t_prev_s, const Pose& T_a_b_new, double t_new_s,
+                             double t_s);
+
 // Distance between two poses: the rotation angle of R_aᵀ R_b (rad) and the
 // translation difference (m). Used by tests and accuracy reports.
 double RotationErrorRad(const Pose& a, const Pose& b);
