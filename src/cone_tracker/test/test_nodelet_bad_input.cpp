@@ -228,7 +228,8 @@ TEST_F(BadInput, TfPredictionAndMotionGate) {
       for (double dt_s : pan_rad_s == 0.0 ? std::vector<double>{0.0} : std::vector<double>{-0.03, -0.01}) {
         geometry_msgs::TransformStamped t;
         t.header.stamp = stamp + ros::Duration(dt_s), t.header.frame_id = "cones", t.child_frame_id = "camera_optical";
-        const Eigen::Quaterniond q(truth.R_cones_camera * Eigen::AngleAxisd(pan_rad_s * dt_s, Eigen::Vector3d::UnitY()));
+        const Eigen::Quaterniond q(truth.R_cones_camera *
+                                   Eigen::AngleAxisd(pan_rad_s * dt_s, Eigen::Vector3d::UnitY()));
         t.transform.rotation.w = q.w(), t.transform.rotation.x = q.x(), t.transform.rotation.y = q.y();
         t.transform.rotation.z = q.z();
         const Eigen::Vector3d p = truth.p_camera_in_cones_m + dp_m;
@@ -300,7 +301,8 @@ TEST_F(BadInput, TfPredictionAndMotionGate) {
   EXPECT_TRUE(d->motion_passed) << d->status;
   EXPECT_LT(d->rotation_change_deg, 0.3);
   EXPECT_TRUE(d->pose_published) << d->status;
-  ASSERT_TRUE(SpinUntil([&] { return rig_.status.Value("tf predictions extrapolated to the image stamp") > extrapolated; }, 10.0));
+  ASSERT_TRUE(SpinUntil(
+      [&] { return rig_.status.Value("tf predictions extrapolated to the image stamp") > extrapolated; }, 10.0));
   ASSERT_TRUE(rig_.Reconfigure({{"max_rotation_change_deg", 30.0}}));
 }
 

@@ -39,7 +39,6 @@ void TrackerAdapter::FillObservations(const sensor_msgs::Image& im, const std::o
     a.gate_probability = config_.pose.chi2_probability;
     a.ambiguity_margin = config_.association_margin;
     a.miss_cost = config_.association_miss_cost;
-    a.prediction_sigma_rad = config_.prediction_sigma_deg * M_PI / 180.0;
     if (pred_cov_ros) {
       // pose_ekf's own covariance, plus the prediction's error beyond it (tf_prediction_sigma_deg, prediction_sigma_m).
       a.prediction_sigma_rad = config_.tf_prediction_sigma_deg * M_PI / 180.0;
@@ -52,6 +51,7 @@ void TrackerAdapter::FillObservations(const sensor_msgs::Image& im, const std::o
     } else {
       // Without the filter's covariance: pose_ekf's position drifts while no cone is
       // fused; its orientation (gyros) stays near the prediction's (test/README.md).
+      a.prediction_sigma_rad = config_.prediction_sigma_deg * M_PI / 180.0;
       a.prediction_sigma_m = config_.prediction_drift_m_s > 0.0
                                  ? std::min(config_.prediction_max_sigma_m,
                                             config_.prediction_sigma_m + config_.prediction_drift_m_s * since_tracked_s)
