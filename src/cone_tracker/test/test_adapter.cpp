@@ -229,6 +229,45 @@ TEST_F(Adapter, ReacquiresWhenTheTfPredictionKeepsFailing) {
   EXPECT_EQ(r.status, FrameStatus::kPose) << r.message;
 }
 
+// pose_ekf back from an outage metres off and sure of it (rig_sim look_away seed 42): on a layout without rotational
+// symmetry the re-acquired pose, which used no prediction, predicts the next frames while tf contradicts it, so their
+// cones keep their own ids; once tf agrees again, tf predicts. (On the symmetric layout above, tf at once.)
+TEST(AdapterOwnTrack, AReacquiredTrackOverrulesATfThatContradictsIt) {
+  const std::string path = RIG_MODEL_LAYOUTS_DIR "/asymmetric.yaml";
+  NodeConfig config;
+  config.layout_file = path;
+  std::vector<ConeModel> layout;
+  std::string error;
+  ASSERT_TRUE(LoadLayoutFile(path, &layout, &error)) << error;
+  TrackerAdapter adapter(config, layout);
+  ASSERT_TRUE(adapter.SetCameraInfo(CameraInfo(kCamera), &error)) << error;
+  const rig_sim::Scene scene = rig_model::LoadLayoutFile(path);
+  const auto frame = [&](double stamp_s) { return Frame("rgb8", stamp_s, scene); };
+  ASSERT_EQ(adapter.Process(frame(10.0), std::nullopt).status, FrameStatus::kPose);
+  pose_math::Pose drifted = Truth();
+  drifted.t += Eigen::Vector3d(1.5, -1.0, 0.5);
+  EXPECT_NE(adapter.Process(frame(10.5), drifted).status, FrameStatus::kPose);
+  FrameResult r = adapter.Process(frame(10.5 + adapter.config().reacquire_after_s + 0.1), drifted);
+  ASSERT_EQ(r.prediction_source, "reacquire");
+  ASSERT_EQ(r.status, FrameStatus::kPose) << r.message;
+
+  for (const double stamp_s : {11.7, 11.8}) {  // pose_ekf still off: the own track predicts
+    r = adapter.Process(frame(stamp_s), drifted);
+    EXPECT_EQ(r.prediction_source, "last_pose");
+    ASSERT_EQ(r.status, FrameStatus::kPose) << r.message;
+    ASSERT_TRUE(r.observations);
+    EXPECT_EQ(r.observations->cones.size(), 3u);
+  }
+  EXPECT_EQ(adapter.counters().tf_overruled, 2u);
+  r = adapter.Process(frame(11.9), Truth());  // pose_ekf re-initialised from those poses: tf agrees
+  EXPECT_EQ(r.prediction_source, "tf");
+  EXPECT_EQ(r.status, FrameStatus::kPose) << r.message;
+  r = adapter.Process(frame(12.0), drifted);  // the own track has ended: tf predicts even when off
+  EXPECT_EQ(r.prediction_source, "tf");
+  EXPECT_NE(r.status, FrameStatus::kPose);
+  EXPECT_EQ(adapter.counters().tf_overruled, 2u);
+}
+
 TEST_F(Adapter, ReconfigureRebuildsTheColourTableAndRefusesBadValues) {
   SegmenterConfig seg = adapter_.config().segmenter;
   seg.hsi.hue_min_deg = 200.0, seg.hsi.hue_max_deg = 252.0;  // blue

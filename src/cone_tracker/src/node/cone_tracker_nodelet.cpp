@@ -341,6 +341,7 @@ void ConeTrackerNodelet::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("image/camera_info size mismatches", c.size_mismatch);
   stat.add("time jumps back", c.time_jumps);
   stat.add("re-acquisitions (tf prediction ignored)", c.reacquisitions);
+  stat.add("frames predicted by the re-acquired track, tf contradicting it", c.tf_overruled);
   stat.add("tf predictions used", tf_predictions_);
   stat.add("tf predictions extrapolated to the image stamp", tf_extrapolated_);
   stat.add("associations spread by pose_ekf's covariance", c.association_filter_covariance);

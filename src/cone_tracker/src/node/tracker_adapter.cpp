@@ -10,6 +10,7 @@
 
 #include "cone_tracker/node/layout.h"
 #include "pose_math/covariance.h"
+#include "pose_math/pose.h"
 #include "rig_model/ros/conversions.h"
 
 namespace cone_tracker {
@@ -90,6 +91,7 @@ TrackerAdapter::TrackerAdapter(const NodeConfig& config, const std::vector<ConeM
   ValidateConfig(config_);
   if (layout_.size() < 3 || int(layout_.size()) > kMaxTrackedCones)
     throw std::invalid_argument("the layout needs 3 to " + std::to_string(kMaxTrackedCones) + " cones");
+  layout_symmetric_ = LayoutHasRotationalSymmetry(layout_);
 }
 
 bool TrackerAdapter::SetCameraInfo(const sensor_msgs::CameraInfo& info, std::string* error) {
@@ -118,6 +120,7 @@ void TrackerAdapter::Reconfigure(const SegmenterConfig& segmenter, const ConePos
 
 void TrackerAdapter::ClearTrack() {
   last_T_cones_camera_.reset();
+  own_track_ = false;
   track_start_stamp_ = ros::Time();
   tracked_stamp_ = ros::Time();
 }
@@ -130,12 +133,33 @@ FrameResult TrackerAdapter::Fail(FrameStatus status, const std::string& message)
 
 std::optional<pose_math::Pose> TrackerAdapter::Prediction(const ros::Time& stamp,
                                                           const std::optional<pose_math::Pose>& tf_T_cones_camera,
-                                                          std::string* source) const {
+                                                          std::string* source) {
+  const bool last_recent = last_T_cones_camera_ && (stamp - last_pose_stamp_).toSec() <= config_.prediction_max_age_s;
+  // After an outage pose_ekf may come back metres off and sure of it, having fused a lone cone associated through
+  // its own drifted prediction. tf then matches none of the cones, the track is lost and re-acquired from the cones
+  // alone (FillPose); pose_ekf gates that pose, and if the next frames went by tf again their cones would be
+  // associated through the same wrong prediction and keep pose_ekf where it is (rig_sim look_away seed 42: 2.5-2.7 m
+  // off for the last 7 s, a re-acquired pose gated once a second). A re-acquired pose of an asymmetric layout depends on
+  // no prediction, so the track it starts predicts the next frames while tf contradicts it (6.4.2's motion gate):
+  // its cones go to pose_ekf with the right ids, pose_ekf gates them until it re-initialises (reinit_after_rejections),
+  // and tf agrees again.
+  if (own_track_ && last_recent && tf_T_cones_camera) {
+    const pose_math::Pose& T_tf = *tf_T_cones_camera;
+    if (pose_math::TranslationError(T_tf, *last_T_cones_camera_) <= config_.pose.max_translation_change_m &&
+        pose_math::RotationErrorRad(T_tf, *last_T_cones_camera_) * 180.0 / M_PI <=
+            config_.pose.max_rotation_change_deg) {
+      own_track_ = false;
+    } else {
+      ++counters_.tf_overruled;
+      *source = "last_pose";
+      return last_T_cones_camera_;
+    }
+  }
   if (tf_T_cones_camera) {
     *source = "tf";
     return tf_T_cones_camera;
   }
-  if (last_T_cones_camera_ && (stamp - last_pose_stamp_).toSec() <= config_.prediction_max_age_s) {
+  if (last_recent) {
     *source = "last_pose";
     return last_T_cones_camera_;
   }
@@ -323,6 +347,8 @@ void TrackerAdapter::FillPose(const sensor_msgs::Image& im, const std::optional<
   det->pose_published = true;
   last_T_cones_camera_ = T;
   last_pose_stamp_ = im.header.stamp;
+  own_track_ = !layout_symmetric_ &&
+               (r->prediction_source == "reacquire" || (own_track_ && r->prediction_source == "last_pose"));
   ++counters_.poses;
 }
 

@@ -64,6 +64,7 @@ struct TrackerCounters {
   uint64_t rejected_ambiguous = 0;  // kRejectedAmbiguous
   uint64_t time_jumps = 0;
   uint64_t reacquisitions = 0;   // frames where a lost track re-initialised after its prediction failed
+  uint64_t tf_overruled = 0;     // frames predicted from the own re-acquired track, tf contradicting it (Prediction)
   uint64_t cones_found_sum = 0;  // accepted blobs over segmented frames
   uint64_t segmented_frames = 0;
   // cone_tracker/observations
@@ -107,7 +108,7 @@ class TrackerAdapter {
   FrameResult Fail(FrameStatus status, const std::string& message);
   std::optional<pose_math::Pose> Prediction(const ros::Time& stamp,
                                             const std::optional<pose_math::Pose>& tf_T_cones_camera,
-                                            std::string* source) const;
+                                            std::string* source);
   // track_lost: no pose for reacquire_after_s, so a failed prediction re-initialises.
   void FillPose(const sensor_msgs::Image& image, const std::optional<pose_math::Pose>& T_cones_camera_pred,
                 bool track_lost, FrameResult* r);
@@ -128,6 +129,10 @@ class TrackerAdapter {
   ros::Time last_pose_stamp_, last_image_stamp_;
   ros::Time track_start_stamp_;  // first frame since the last ClearTrack (reacquire_after_s)
   ros::Time tracked_stamp_;      // last frame with a pose or two associated cones (prediction_drift_m_s)
+  // The last pose descends from a re-acquisition (solved from the cones alone, tf having matched none of them) on a
+  // layout without rotational symmetry: it overrules tf while tf contradicts it (Prediction).
+  bool own_track_ = false;
+  bool layout_symmetric_ = false;
   TrackerCounters counters_;
 };
 
