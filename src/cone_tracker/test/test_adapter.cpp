@@ -229,11 +229,12 @@ TEST_F(Adapter, ReacquiresWhenTheTfPredictionKeepsFailing) {
   EXPECT_EQ(r.status, FrameStatus::kPose) << r.message;
 }
 
-// pose_ekf back from an outage metres off and sure of it (rig_sim look_away seed 42): on a layout without rotational
-// symmetry the re-acquired pose, which used no prediction, predicts the next frames while tf contradicts it, so their
-// cones keep their own ids; once tf agrees again, tf predicts. (On the symmetric layout above, tf at once.)
-TEST(AdapterOwnTrack, AReacquiredTrackOverrulesATfThatContradictsIt) {
-  const std::string path = RIG_MODEL_LAYOUTS_DIR "/asymmetric.yaml";
+// pose_ekf back from an outage metres off and sure of it (rig_sim look_away seed 42): the re-acquired pose predicts
+// the next frames while tf contradicts it, so their cones keep their own ids; once tf agrees again, tf predicts. The
+// sequence on one layout file (RIG_MODEL_LAYOUTS_DIR).
+void ExpectOwnTrackOverrulesContradictingTf(const std::string& file) {
+  SCOPED_TRACE(file);
+  const std::string path = RIG_MODEL_LAYOUTS_DIR "/" + file;
   NodeConfig config;
   config.layout_file = path;
   std::vector<ConeModel> layout;
@@ -266,6 +267,11 @@ TEST(AdapterOwnTrack, AReacquiredTrackOverrulesATfThatContradictsIt) {
   EXPECT_EQ(r.prediction_source, "tf");
   EXPECT_NE(r.status, FrameStatus::kPose);
   EXPECT_EQ(adapter.counters().tf_overruled, 2u);
+}
+
+TEST(AdapterOwnTrack, AReacquiredTrackOverrulesATfThatContradictsIt) {
+  ExpectOwnTrackOverrulesContradictingTf("asymmetric.yaml");
+  ExpectOwnTrackOverrulesContradictingTf("default.yaml");  // three identical cones: the tie-break is tf's bearing
 }
 
 TEST_F(Adapter, ReconfigureRebuildsTheColourTableAndRefusesBadValues) {

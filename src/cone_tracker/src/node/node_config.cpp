@@ -26,7 +26,6 @@ void ValidateConfig(const NodeConfig& c) {
         "heading_prior_deg must be finite or nan");
   Check(c.prediction_sigma_m > 0.0, "prediction_sigma_m must be > 0");
   Check(c.prediction_sigma_deg > 0.0, "prediction_sigma_deg must be > 0");
-  Check(c.tf_prediction_sigma_deg > 0.0, "tf_prediction_sigma_deg must be > 0");
   Check(c.prediction_drift_m_s >= 0.0, "prediction_drift_m_s must be >= 0");
   Check(c.prediction_max_sigma_m >= c.prediction_sigma_m, "prediction_max_sigma_m must be >= prediction_sigma_m");
   Check(c.association_margin >= 0.0, "association_margin must be >= 0");

@@ -35,7 +35,6 @@ Table MakeTable() {
       .Add("heading_prior_deg", [](NodeConfig& c) -> double& { return c.heading_prior_deg; })
       .Add("prediction_sigma_m", [](NodeConfig& c) -> double& { return c.prediction_sigma_m; })
       .Add("prediction_sigma_deg", [](NodeConfig& c) -> double& { return c.prediction_sigma_deg; })
-      .Add("tf_prediction_sigma_deg", [](NodeConfig& c) -> double& { return c.tf_prediction_sigma_deg; })
       .Add("prediction_drift_m_s", [](NodeConfig& c) -> double& { return c.prediction_drift_m_s; })
       .Add("prediction_max_sigma_m", [](NodeConfig& c) -> double& { return c.prediction_max_sigma_m; })
       .Add("association_margin", [](NodeConfig& c) -> double& { return c.association_margin; })

@@ -39,9 +39,11 @@ void TrackerAdapter::FillObservations(const sensor_msgs::Image& im, const std::o
     a.gate_probability = config_.pose.chi2_probability;
     a.ambiguity_margin = config_.association_margin;
     a.miss_cost = config_.association_miss_cost;
+    a.prediction_sigma_rad = config_.prediction_sigma_deg * M_PI / 180.0;
     if (pred_cov_ros) {
-      // pose_ekf's own covariance, plus the prediction's error beyond it (tf_prediction_sigma_deg, prediction_sigma_m).
-      a.prediction_sigma_rad = config_.tf_prediction_sigma_deg * M_PI / 180.0;
+      // pose_ekf's own covariance, plus the prediction's error beyond it (prediction_sigma_*): not the tf's
+      // extrapolation alone, pose_ekf's orientation can be several times its sigma off (README, "The tf
+      // prediction at the image stamp").
       a.prediction_cov = AssociationPrior(pred->q, *pred_cov_ros);
       a.prediction_cov->diagonal() += Eigen::Matrix<double, 6, 1>(
           (Eigen::Matrix<double, 6, 1>() << Eigen::Vector3d::Constant(a.prediction_sigma_rad * a.prediction_sigma_rad),
@@ -51,7 +53,6 @@ void TrackerAdapter::FillObservations(const sensor_msgs::Image& im, const std::o
     } else {
       // Without the filter's covariance: pose_ekf's position drifts while no cone is
       // fused; its orientation (gyros) stays near the prediction's (test/README.md).
-      a.prediction_sigma_rad = config_.prediction_sigma_deg * M_PI / 180.0;
       a.prediction_sigma_m = config_.prediction_drift_m_s > 0.0
                                  ? std::min(config_.prediction_max_sigma_m,
                                             config_.prediction_sigma_m + config_.prediction_drift_m_s * since_tracked_s)

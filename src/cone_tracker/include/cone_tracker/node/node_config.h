@@ -50,11 +50,6 @@ struct NodeConfig {
   // more (chi-square).
   double prediction_sigma_m = 0.05;
   double prediction_sigma_deg = 2.0;
-  // With the tf prediction and pose_ekf's covariance, the orientation error beyond that covariance (1-sigma per
-  // axis) in place of prediction_sigma_deg: tf's interpolation, or the extrapolation from pose_ekf's newest pose to
-  // the image stamp (measured 0.03-0.12 deg RMS, at most 1.3 deg in handheld shakes; README, "The tf
-  // prediction at the image stamp").
-  double tf_prediction_sigma_deg = 0.5;
   double prediction_drift_m_s = 0.5;
   double prediction_max_sigma_m = 1.0;
   double association_margin = 9.0;

@@ -129,10 +129,9 @@ class TrackerAdapter {
   ros::Time last_pose_stamp_, last_image_stamp_;
   ros::Time track_start_stamp_;  // first frame since the last ClearTrack (reacquire_after_s)
   ros::Time tracked_stamp_;      // last frame with a pose or two associated cones (prediction_drift_m_s)
-  // The last pose descends from a re-acquisition (solved from the cones alone, tf having matched none of them) on a
-  // layout without rotational symmetry: it overrules tf while tf contradicts it (Prediction).
+  // The last pose descends from a re-acquisition (solved from the cones alone, tf having matched none of them): it
+  // overrules tf while tf contradicts it (Prediction).
   bool own_track_ = false;
-  bool layout_symmetric_ = false;
   TrackerCounters counters_;
 };
 
