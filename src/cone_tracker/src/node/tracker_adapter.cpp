@@ -134,20 +134,13 @@ std::optional<pose_math::Pose> TrackerAdapter::Prediction(const ros::Time& stamp
                                                           const std::optional<pose_math::Pose>& tf_T_cones_camera,
                                                           std::string* source) {
   const bool last_recent = last_T_cones_camera_ && (stamp - last_pose_stamp_).toSec() <= config_.prediction_max_age_s;
-  // After an outage pose_ekf may come back metres off and sure of it, having fused a lone cone associated through
-  // its own drifted prediction. tf then matches none of the cones, the track is lost and re-acquired from the cones
-  // alone (FillPose); pose_ekf gates that pose, and if the next frames went by tf again their cones would be
-  // associated through the same wrong prediction and keep pose_ekf where it is (rig_sim look_away seed 42: 2.5-2.7 m
-  // off for the last 7 s, a re-acquired pose gated once a second; after the loop jump of `make test`'s soak, 4-50 m
-  // off for 8 s). A re-acquired pose is solved from the cones alone (on a symmetric layout the prediction's bearing
-  // picks the rotation, FillPose: after a jump the rotations are equally right), so the track it starts predicts the
-  // next frames while tf contradicts it (6.4.2's motion gate): its cones go to pose_ekf with the right ids, pose_ekf
-  // gates them until it re-initialises (reinit_after_rejections), and tf agrees again.
+  // A track re-acquired from the cones alone predicts while tf contradicts it (6.4.2's motion gate): pose_ekf may be
+  // metres off and sure of it, and frames predicted by tf would feed it its own wrong ids (README, "The re-acquired
+  // track overrules a contradicting tf"). Its cones reach pose_ekf with their own ids until it re-initialises.
   if (own_track_ && last_recent && tf_T_cones_camera) {
     const pose_math::Pose& T_tf = *tf_T_cones_camera;
-    if (pose_math::TranslationError(T_tf, *last_T_cones_camera_) <= config_.pose.max_translation_change_m &&
-        pose_math::RotationErrorRad(T_tf, *last_T_cones_camera_) * 180.0 / M_PI <=
-            config_.pose.max_rotation_change_deg) {
+    if (config_.pose.WithinMotionGate(pose_math::TranslationError(T_tf, *last_T_cones_camera_),
+                                      pose_math::RotationErrorRad(T_tf, *last_T_cones_camera_) * 180.0 / M_PI)) {
       own_track_ = false;
     } else {
       ++counters_.tf_overruled;

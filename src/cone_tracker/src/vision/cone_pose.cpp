@@ -356,9 +356,7 @@ ConePoseResult EstimateConePose(const std::vector<ConeDetection>& dets, const st
     out.motion_checked = true;
     out.translation_change_m = (CameraInCones(out.pnp.T_camera_model) - CameraInCones(*T_pred)).norm();
     out.rotation_change_deg = pose_math::RotationErrorRad(out.pnp.T_camera_model, *T_pred) * 180.0 / M_PI;
-    if (out.translation_change_m > cfg.max_translation_change_m ||
-        out.rotation_change_deg > cfg.max_rotation_change_deg)
-      out.rejected_by |= kPoseMotion;
+    if (!cfg.WithinMotionGate(out.translation_change_m, out.rotation_change_deg)) out.rejected_by |= kPoseMotion;
   }
   out.ok = out.rejected_by == 0;
   if (!out.ok && out.error.empty()) out.error = "rejected by a gate";

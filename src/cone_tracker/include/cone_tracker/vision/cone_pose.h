@@ -57,6 +57,10 @@ struct ConePoseConfig {
   // like the association's association_margin.
   double ambiguity_margin = 9.0;
   std::string Validate() const;
+  // 6.4.2: a camera pose within max_translation_change_m and max_rotation_change_deg of the prediction.
+  bool WithinMotionGate(double translation_change_m, double rotation_change_deg) const {
+    return translation_change_m <= max_translation_change_m && rotation_change_deg <= max_rotation_change_deg;
+  }
 };
 
 enum PoseGateBits : uint32_t {
