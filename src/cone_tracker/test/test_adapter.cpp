@@ -10,6 +10,7 @@
 #include "cone_tracker/node/tracker_adapter.h"
 #include "cone_tracker/testing/vision_frames.h"
 #include "nodelet_test_util.h"
+#include "rig_model/ros/conversions.h"
 #include "pose_math/covariance.h"
 #include "pose_math/rotation.h"
 
@@ -36,8 +37,9 @@ NodeConfig Config(double heading_prior_deg) {
 
 // The rendered frame in the given encoding (rgb8, bgr8 or a bayer pattern).
 sensor_msgs::ImagePtr Frame(const std::string& encoding, double stamp_s,
-                            const rig_sim::Scene& scene = rig_sim::DefaultScene()) {
-  const SimFrame f = RenderSim(scene, LookAt(kEye, kTarget), kCamera, 1.0);
+                            const rig_sim::Scene& scene = rig_sim::DefaultScene(),
+                            const rig_sim::TruePose& pose = LookAt(kEye, kTarget)) {
+  const SimFrame f = RenderSim(scene, pose, kCamera, 1.0);
   auto img = boost::make_shared<sensor_msgs::Image>();
   img->header.stamp.fromSec(stamp_s);
   img->width = uint32_t(kCamera.width_px), img->height = uint32_t(kCamera.height_px), img->encoding = encoding;
@@ -311,4 +313,48 @@ TEST(AdapterHeading, PriorPicksAmongTheSymmetricPoses) {
 }
 
 }  // namespace
+// The two-cone start through the adapter: two cones in view, no prediction; gravity from the caller.
+TEST(AdapterTwoCones, TwoConesAndGravityStartTheTrackWithoutAPrediction) {
+  rig_sim::Scene scene;
+  std::string error;
+  ASSERT_TRUE(
+      rig_sim::ParseSceneYaml("cones:\n  - {x_m: 0.0, y_m: 0.0, height_m: 0.71, style: plain}\n"
+                              "  - {x_m: 1.5, y_m: 0.0, height_m: 0.71, style: plain}\n"
+                              "  - {x_m: 5.0, y_m: 3.0, height_m: 0.46, style: plain}\n",
+                              &scene, &error))
+      << error;
+  std::vector<ConeModel> layout;
+  for (const auto& c : scene.cones) layout.push_back({c.base_m, c.height_m, c.tau});
+  const rig_sim::TruePose truth = LookAt(Eigen::Vector3d(0.75, 4.0, 1.4), Eigen::Vector3d(0.75, 0.0, 0.35));
+  const Eigen::Vector3d up = truth.R_cones_camera.transpose().col(2);  // the layout's z in the camera
+  NodeConfig config;
+  config.layout_file = "two_cones.yaml";  // the adapter takes the layout as given
+  const auto make = [&](double sigma_deg) {
+    config.two_cone_gravity_sigma_deg = sigma_deg;
+    auto a = std::make_unique<TrackerAdapter>(config, layout);
+    std::string e;
+    EXPECT_TRUE(a->SetCameraInfo(CameraInfo(kCamera), &e)) << e;
+    return a;
+  };
+  auto adapter = make(3.0);
+  const FrameResult no_gravity = adapter->Process(Frame("rgb8", 1.0, scene, truth), std::nullopt);
+  EXPECT_EQ(no_gravity.status, FrameStatus::kTooFewCones) << no_gravity.message;
+  EXPECT_EQ(adapter->counters().two_cone_no_gravity, 1u);
+  const FrameResult r = adapter->Process(Frame("rgb8", 1.1, scene, truth), std::nullopt, std::nullopt, up);
+  ASSERT_EQ(r.status, FrameStatus::kPose) << r.message;
+  EXPECT_EQ(r.prediction_source, "two_cones_gravity");
+  ASSERT_TRUE(r.pose);
+  EXPECT_LT((rig_model::FromPoseMsg(r.pose->pose.pose).t - truth.p_camera_in_cones_m).norm(), 0.14);
+  ASSERT_TRUE(r.observations);
+  EXPECT_EQ(r.observations->cones.size(), 2u);  // pose_ekf gets both cones with their ids
+  EXPECT_EQ(adapter->counters().two_cone_poses, 1u);
+  EXPECT_EQ(r.detections->prediction_source, "two_cones_gravity");
+  EXPECT_EQ(r.detections->chi2_dof, 8);
+  // Off: three cones needed, gravity or not.
+  auto off = make(0.0);
+  const FrameResult r_off = off->Process(Frame("rgb8", 1.0, scene, truth), std::nullopt, std::nullopt, up);
+  EXPECT_EQ(r_off.status, FrameStatus::kTooFewCones);
+  EXPECT_EQ(off->counters().two_cone_poses + off->counters().two_cone_no_gravity, 0u);
+}
+
 }  // namespace cone_tracker

@@ -10,6 +10,7 @@
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <dynamic_reconfigure/Reconfigure.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/Imu.h>
 #include <tf2_msgs/TFMessage.h>
 #include <Eigen/Geometry>
 
@@ -125,8 +126,9 @@ TEST_F(BadInput, EachCaseGivesADiagnosticAndNoPose) {
   ExpectGoodFrameGivesPose();
 }
 
-TEST_F(BadInput, ConeCutByTheBorder) {
-  // Turn the camera until the axis of the leftmost cone is on the image's left edge.
+// The default scene with the camera turned until the axis of the leftmost cone is on the image's left edge (the
+// other two whole); none when no turn does that.
+std::optional<rig_sim::TruePose> ViewWithAConeOnTheLeftEdge() {
   const rig_sim::Scene scene = rig_sim::DefaultScene();
   const Eigen::Vector3d right = (kTarget - kEye).cross(Eigen::Vector3d::UnitZ()).normalized();
   const CameraModel& camera = kCamera;
@@ -142,12 +144,17 @@ TEST_F(BadInput, ConeCutByTheBorder) {
         second_u = std::min(second_u, uv.x());
     }
     if (min_u > 1.0) continue;
-    ASSERT_GT(second_u, 20.0) << "two cones at the border";
-    ExpectNoPose(Send(Frame(scene, pose)), "blobs rejected by gate border", "cone(s) found");
-    ExpectGoodFrameGivesPose();
-    return;
+    EXPECT_GT(second_u, 20.0) << "two cones at the border";
+    return pose;
   }
-  FAIL() << "no view with a cone on the border";
+  return std::nullopt;
+}
+
+TEST_F(BadInput, ConeCutByTheBorder) {
+  const std::optional<rig_sim::TruePose> pose = ViewWithAConeOnTheLeftEdge();
+  ASSERT_TRUE(pose) << "no view with a cone on the border";
+  ExpectNoPose(Send(Frame(rig_sim::DefaultScene(), *pose)), "blobs rejected by gate border", "cone(s) found");
+  ExpectGoodFrameGivesPose();
 }
 
 TEST_F(BadInput, NanInCameraInfo) {
@@ -304,6 +311,70 @@ TEST_F(BadInput, TfPredictionAndMotionGate) {
   ASSERT_TRUE(SpinUntil(
       [&] { return rig_.status.Value("tf predictions extrapolated to the image stamp") > extrapolated; }, 10.0));
   ASSERT_TRUE(rig_.Reconfigure({{"max_rotation_change_deg", 30.0}}));
+}
+
+// The two-cone start from imu/data_raw: the IMU mounted turned against the camera (a static tf), a NaN sample
+// refused and counted, then gravity around the stamp of a frame with two cones and no prediction reaches the start.
+TEST_F(BadInput, TwoConeStartFromTheImu) {
+  ros::Publisher imu_pub = rig_.nh.advertise<sensor_msgs::Imu>("imu/data_raw", 100);
+  ros::Publisher static_pub = rig_.nh.advertise<tf2_msgs::TFMessage>("/tf_static", 1, /*latch=*/true);
+  ASSERT_TRUE(SpinUntil([&] { return imu_pub.getNumSubscribers() > 0 && static_pub.getNumSubscribers() > 0; }, 10.0));
+  const Eigen::Quaterniond q_camera_imu(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()) *
+                                        Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()));
+  tf2_msgs::TFMessage mount;
+  geometry_msgs::TransformStamped t;
+  t.header.stamp = ros::Time::now(), t.header.frame_id = "camera_optical", t.child_frame_id = "rig_imu";
+  t.transform.rotation.w = q_camera_imu.w(), t.transform.rotation.x = q_camera_imu.x();
+  t.transform.rotation.y = q_camera_imu.y(), t.transform.rotation.z = q_camera_imu.z();
+  mount.transforms.push_back(t);
+  static_pub.publish(mount);
+
+  // Two whole cones and one cut by the border (refused), with no prediction: the stamp far after every earlier
+  // frame and transform. The default layout's three cones are alike and evenly spaced, so its rotations fit
+  // the two cones alike: the start refuses the frame as ambiguous ("fit alike"). That needs gravity turned into
+  // the camera the right way round: turned the wrong way, no pairing fits ("no pair of layout cones fits").
+  const std::optional<rig_sim::TruePose> view = ViewWithAConeOnTheLeftEdge();
+  ASSERT_TRUE(view);
+  const rig_sim::TruePose& truth = *view;
+  const ros::Time stamp = ros::Time::now() + ros::Duration(100.0);
+  const Eigen::Vector3d up_camera = truth.R_cones_camera.transpose() * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d f_imu = q_camera_imu.conjugate() * (9.81 * up_camera);
+  auto sample = [&](const ros::Time& at, const Eigen::Vector3d& f) {
+    sensor_msgs::Imu m;
+    m.header.stamp = at, m.header.frame_id = "rig_imu";
+    m.linear_acceleration.x = f.x(), m.linear_acceleration.y = f.y(), m.linear_acceleration.z = f.z();
+    imu_pub.publish(m);
+  };
+  // The static tf may reach the nodelet after the first samples (refused: no tf yet): a sample a second before the
+  // stamp until one is kept, then the window around the stamp.
+  const auto kept = [&] { return rig_.status.Value("IMU samples for gravity"); };
+  const double kept_before = kept();
+  ASSERT_TRUE(SpinUntil([&] { return sample(stamp - ros::Duration(1.0), f_imu), kept() > kept_before; }, 30.0));
+  const double kept_tf = kept();
+  for (int i = -5; i <= 5; ++i) sample(stamp + ros::Duration(0.01 * i), f_imu);
+  ASSERT_TRUE(SpinUntil([&] { return kept() >= kept_tf + 11.0; }, 30.0));
+  const double refused_before = rig_.status.Value("IMU samples refused (non-finite, or no tf to camera_frame)");
+  sample(stamp + ros::Duration(0.2), Eigen::Vector3d(NAN, 0.0, 9.81));
+  ASSERT_TRUE(SpinUntil(
+      [&] { return rig_.status.Value("IMU samples refused (non-finite, or no tf to camera_frame)") > refused_before; },
+      30.0));
+
+  std::map<uint64_t, ConeDetections::ConstPtr> detections;
+  ros::Subscriber sub = rig_.nh.subscribe<ConeDetections>(
+      "cone_tracker/detections", 10,
+      [&](const ConeDetections::ConstPtr& m) { detections[m->header.stamp.toNSec()] = m; });
+  ASSERT_TRUE(SpinUntil([&] { return sub.getNumPublishers() > 0; }, 10.0));
+  const double refused = rig_.status.Value("two-cone starts refused (no pair of layout cones fits, or two fit alike)");
+  const double without = rig_.status.Value("two-cone frames without gravity (no imu/data_raw around the stamp)");
+  const TrackerStatus& s = Send(Frame(rig_sim::DefaultScene(), truth), stamp);
+  EXPECT_FALSE(PosePublished()) << s.message;
+  EXPECT_EQ(s.Value("two-cone starts refused (no pair of layout cones fits, or two fit alike)"), refused + 1.0);
+  EXPECT_EQ(s.Value("two-cone frames without gravity (no imu/data_raw around the stamp)"), without);
+  ASSERT_TRUE(SpinUntil([&] { return detections.count(stamp.toNSec()) > 0; }, 60.0));
+  const ConeDetections& d = *detections[stamp.toNSec()];
+  EXPECT_EQ(d.prediction_source, "two_cones_gravity");
+  EXPECT_EQ(d.accepted_count, 2);
+  EXPECT_NE(d.status.find("fit alike"), std::string::npos) << d.status;
 }
 
 }  // namespace

@@ -7,22 +7,27 @@
 #include <image_transport/image_transport.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
+#include <sensor_msgs/Imu.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 #include <pluginlib/class_list_macros.hpp>
 
 #include <algorithm>
 #include <deque>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
 #include <utility>
+
+#include <Eigen/Geometry>
 
 #include "cone_tracker/ConeTrackerConfig.h"
 #include "cone_tracker/node/layout.h"
 #include "cone_tracker/node/params.h"
 #include "cone_tracker/node/tracker_adapter.h"
 #include "cone_tracker/node/visuals.h"
+#include "cone_tracker/vision/two_cone_pose.h"
 #include "pose_math/pose.h"
 #include "rig_model/ros/conversions.h"
 #include "rig_model/ros/diagnostics.h"
@@ -51,6 +56,7 @@ class ConeTrackerNodelet : public nodelet::Nodelet {
   void OnReconfigure(ConeTrackerConfig& cfg, uint32_t level);
   std::optional<pose_math::Pose> TfPrediction(const ros::Time& stamp);
   void OnFilterPose(const geometry_msgs::PoseWithCovarianceStampedConstPtr& msg);
+  void OnImu(const sensor_msgs::ImuConstPtr& msg);
   std::optional<pose_math::Matrix6d> FilterCovariance(const ros::Time& stamp) const;
   void Report(const FrameResult& r, const sensor_msgs::Image& image);
   void Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
@@ -60,7 +66,11 @@ class ConeTrackerNodelet : public nodelet::Nodelet {
   std::unique_ptr<image_transport::ImageTransport> it_;
   image_transport::Subscriber image_sub_;
   image_transport::Publisher debug_pub_;
-  ros::Subscriber info_sub_, filter_pose_sub_;
+  ros::Subscriber info_sub_, filter_pose_sub_, imu_sub_;
+  // The two-cone start's gravity: the accelerometer in camera_frame, and the camera <- IMU rotation per IMU frame
+  // (static tf, looked up once).
+  GravityWindow gravity_;
+  std::map<std::string, Eigen::Quaterniond> imu_rotations_;
   std::deque<std::pair<ros::Time, pose_math::Matrix6d>> filter_covs_;  // pose_ekf/pose's, the last second
   ros::Publisher pose_pub_, detections_pub_, observations_pub_, markers_pub_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
@@ -75,6 +85,7 @@ class ConeTrackerNodelet : public nodelet::Nodelet {
   bool any_frame_ = false;
   RunningStat latency_ms_, processing_ms_;
   uint64_t tf_predictions_ = 0, tf_extrapolated_ = 0, debug_images_ = 0, filter_poses_refused_ = 0;
+  uint64_t imu_samples_ = 0, imu_refused_ = 0;
 };
 
 void ConeTrackerNodelet::onInit() {
@@ -127,12 +138,15 @@ void ConeTrackerNodelet::SetUpRateChecks(const NodeConfig& config) {
 
 void ConeTrackerNodelet::SetUpPublishers(ros::NodeHandle& nh, const NodeConfig& config,
                                          const std::vector<ConeModel>& layout) {
-  if (config.use_tf_prediction) {
+  if (config.use_tf_prediction || config.two_cone_gravity_sigma_deg > 0.0) {
     tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
     tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
-    // The tf prediction's covariance, for the per-cone association's spread (pose/associate.h).
-    filter_pose_sub_ = nh.subscribe("pose_ekf/pose", 50, &ConeTrackerNodelet::OnFilterPose, this);
   }
+  // The tf prediction's covariance, for the per-cone association's spread (pose/associate.h).
+  if (config.use_tf_prediction)
+    filter_pose_sub_ = nh.subscribe("pose_ekf/pose", 50, &ConeTrackerNodelet::OnFilterPose, this);
+  if (config.two_cone_gravity_sigma_deg > 0.0)
+    imu_sub_ = nh.subscribe("imu/data_raw", 200, &ConeTrackerNodelet::OnImu, this);
   pose_pub_ = nh.advertise<geometry_msgs::PoseWithCovarianceStamped>("cone_tracker/pose", 10);
   detections_pub_ = nh.advertise<ConeDetections>("cone_tracker/detections", 10);
   observations_pub_ = nh.advertise<ConeObservations>("cone_tracker/observations", 10);
@@ -181,8 +195,8 @@ void ConeTrackerNodelet::OnCameraInfo(const sensor_msgs::CameraInfoConstPtr& msg
 std::optional<pose_math::Pose> ConeTrackerNodelet::TfPrediction(const ros::Time& stamp) {
   // Two of pose_ekf's 100 Hz samples: the rates are current, and not one sample's interpolation.
   constexpr double kRateSpanS = 0.02;
-  if (!tf_buffer_) return std::nullopt;
   const NodeConfig& c = adapter_->config();
+  if (!tf_buffer_ || !c.use_tf_prediction) return std::nullopt;
   const auto pose_of = [](const geometry_msgs::TransformStamped& tf) {
     pose_math::Pose T = rig_model::FromTransformMsg(tf.transform);
     T.q.normalize();
@@ -247,13 +261,47 @@ std::optional<pose_math::Matrix6d> ConeTrackerNodelet::FilterCovariance(const ro
   return best->second;
 }
 
+// The accelerometer, turned into camera_frame, for the two-cone start's "up" (GravityWindow). The rotation comes
+// from the static tf the rig description publishes (camera_imu in the calibration), as pose_ekf takes it.
+void ConeTrackerNodelet::OnImu(const sensor_msgs::ImuConstPtr& msg) {
+  if (!adapter_ || !tf_buffer_) return;
+  const std::string& frame = msg->header.frame_id;
+  auto it = imu_rotations_.find(frame);
+  if (it == imu_rotations_.end()) {
+    try {
+      const auto tf = tf_buffer_->lookupTransform(adapter_->config().camera_frame, frame, ros::Time(0));
+      const auto& q = tf.transform.rotation;
+      it = imu_rotations_.emplace(frame, Eigen::Quaterniond(q.w, q.x, q.y, q.z).normalized()).first;
+    } catch (const tf2::TransformException& e) {
+      ++imu_refused_;
+      NODELET_WARN_THROTTLE(5.0, "cone_tracker: %s: no tf %s <- '%s' yet (%s): no gravity for the two-cone start",
+                            imu_sub_.getTopic().c_str(), adapter_->config().camera_frame.c_str(), frame.c_str(),
+                            e.what());
+      return;
+    }
+  }
+  const auto& a = msg->linear_acceleration;
+  if (!gravity_.Add(msg->header.stamp.toSec(), it->second * Eigen::Vector3d(a.x, a.y, a.z))) {
+    ++imu_refused_;
+    NODELET_WARN_THROTTLE(5.0, "cone_tracker: %s: non-finite linear_acceleration or stamp, sample dropped",
+                          imu_sub_.getTopic().c_str());
+    return;
+  }
+  ++imu_samples_;
+}
+
 void ConeTrackerNodelet::OnImage(const sensor_msgs::ImageConstPtr& msg) {
   if (!adapter_) return;
   const ros::WallTime start = ros::WallTime::now();
   try {
     any_frame_ = true;
     image_freq_->Tick(msg->header.stamp);
-    const FrameResult r = adapter_->Process(msg, TfPrediction(msg->header.stamp), FilterCovariance(msg->header.stamp));
+    const NodeConfig& c = adapter_->config();
+    const std::optional<Eigen::Vector3d> up = c.two_cone_gravity_sigma_deg > 0.0
+                                                  ? gravity_.UpAt(msg->header.stamp.toSec(), 0.5 * c.gravity_window_s)
+                                                  : std::nullopt;
+    const FrameResult r =
+        adapter_->Process(msg, TfPrediction(msg->header.stamp), FilterCovariance(msg->header.stamp), up);
     if (r.pose) {
       pose_freq_->Tick(r.pose->header.stamp);
       pose_pub_.publish(r.pose);
@@ -342,6 +390,11 @@ void ConeTrackerNodelet::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("time jumps back", c.time_jumps);
   stat.add("re-acquisitions (tf prediction ignored)", c.reacquisitions);
   stat.add("frames predicted by the re-acquired track, tf contradicting it", c.tf_overruled);
+  stat.add("poses from two cones and gravity", c.two_cone_poses);
+  stat.add("two-cone starts refused (no pair of layout cones fits, or two fit alike)", c.two_cone_refused);
+  stat.add("two-cone frames without gravity (no imu/data_raw around the stamp)", c.two_cone_no_gravity);
+  stat.add("IMU samples for gravity", imu_samples_);
+  stat.add("IMU samples refused (non-finite, or no tf to camera_frame)", imu_refused_);
   stat.add("tf predictions used", tf_predictions_);
   stat.add("tf predictions extrapolated to the image stamp", tf_extrapolated_);
   stat.add("associations spread by pose_ekf's covariance", c.association_filter_covariance);

@@ -24,6 +24,9 @@ void ValidateConfig(const NodeConfig& c) {
   Check(c.reacquire_after_s > 0.0, "reacquire_after_s must be > 0");
   Check(std::isnan(c.heading_prior_deg) || std::isfinite(c.heading_prior_deg),
         "heading_prior_deg must be finite or nan");
+  Check(c.two_cone_gravity_sigma_deg >= 0.0 && c.two_cone_gravity_sigma_deg <= 45.0,
+        "two_cone_gravity_sigma_deg must be in [0, 45] (0: no two-cone start)");
+  Check(c.gravity_window_s > 0.0 && c.gravity_window_s <= 1.0, "gravity_window_s must be in (0, 1]");
   Check(c.prediction_sigma_m > 0.0, "prediction_sigma_m must be > 0");
   Check(c.prediction_sigma_deg > 0.0, "prediction_sigma_deg must be > 0");
   Check(c.prediction_drift_m_s >= 0.0, "prediction_drift_m_s must be >= 0");

@@ -33,6 +33,8 @@ Table MakeTable() {
       .Add("prediction_max_age_s", [](NodeConfig& c) -> double& { return c.prediction_max_age_s; })
       .Add("reacquire_after_s", [](NodeConfig& c) -> double& { return c.reacquire_after_s; })
       .Add("heading_prior_deg", [](NodeConfig& c) -> double& { return c.heading_prior_deg; })
+      .Add("two_cone_gravity_sigma_deg", [](NodeConfig& c) -> double& { return c.two_cone_gravity_sigma_deg; })
+      .Add("gravity_window_s", [](NodeConfig& c) -> double& { return c.gravity_window_s; })
       .Add("prediction_sigma_m", [](NodeConfig& c) -> double& { return c.prediction_sigma_m; })
       .Add("prediction_sigma_deg", [](NodeConfig& c) -> double& { return c.prediction_sigma_deg; })
       .Add("prediction_drift_m_s", [](NodeConfig& c) -> double& { return c.prediction_drift_m_s; })

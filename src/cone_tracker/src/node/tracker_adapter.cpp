@@ -9,6 +9,7 @@
 #include <boost/math/distributions/chi_squared.hpp>
 
 #include "cone_tracker/node/layout.h"
+#include "cone_tracker/vision/two_cone_pose.h"
 #include "pose_math/covariance.h"
 #include "pose_math/pose.h"
 #include "rig_model/ros/conversions.h"
@@ -162,7 +163,8 @@ std::optional<pose_math::Pose> TrackerAdapter::Prediction(const ros::Time& stamp
 
 FrameResult TrackerAdapter::Process(const sensor_msgs::ImageConstPtr& msg,
                                     const std::optional<pose_math::Pose>& tf_T_cones_camera,
-                                    const std::optional<pose_math::Matrix6d>& tf_cov_ros) {
+                                    const std::optional<pose_math::Matrix6d>& tf_cov_ros,
+                                    const std::optional<Eigen::Vector3d>& up_camera) {
   ++counters_.frames;
   if (!msg) return ++counters_.bad_image, Fail(FrameStatus::kBadImage, "null image message");
   const sensor_msgs::Image& im = *msg;
@@ -234,13 +236,13 @@ FrameResult TrackerAdapter::Process(const sensor_msgs::ImageConstPtr& msg,
   const bool track_lost = (im.header.stamp - since).toSec() > config_.reacquire_after_s;
   const double since_tracked_s = tracked_stamp_.isZero() ? INFINITY : (im.header.stamp - tracked_stamp_).toSec();
   const bool from_tf = r.prediction_source == "tf";
-  FillPose(im, pred, track_lost, &r);
+  FillPose(im, pred, track_lost, up_camera, &r);
   FillObservations(im, pred, from_tf ? tf_cov_ros : std::nullopt, since_tracked_s, &r);
   return r;
 }
 
 void TrackerAdapter::FillPose(const sensor_msgs::Image& im, const std::optional<pose_math::Pose>& pred, bool track_lost,
-                              FrameResult* r) {
+                              const std::optional<Eigen::Vector3d>& up_camera, FrameResult* r) {
   const SegmentationResult& seg = r->segmentation;
   std::optional<pose_math::Pose> T_camera_cones_pred;
   if (pred) T_camera_cones_pred = pose_math::Invert(*pred);
@@ -254,6 +256,18 @@ void TrackerAdapter::FillPose(const sensor_msgs::Image& im, const std::optional<
     r->cone_pose = EstimateConePose(seg.cones, layout_, camera_, reinit, std::nullopt);
     r->prediction_source = "reacquire";
     ++counters_.reacquisitions;
+  }
+  if (!pred && seg.cones.size() == 2 && layout_.size() <= kTwoConeMaxLayout &&
+      config_.two_cone_gravity_sigma_deg > 0.0) {
+    // No track to continue and two cones: the two-cone start (README, "Two cones and gravity").
+    if (!up_camera) {
+      ++counters_.two_cone_no_gravity;
+    } else {
+      r->cone_pose = EstimateTwoConePose(seg.cones, seg.rejected, layout_, camera_, config_.pose,
+                                         GravityPrior{*up_camera, config_.two_cone_gravity_sigma_deg * M_PI / 180.0});
+      r->prediction_source = "two_cones_gravity";
+      ++(r->cone_pose.ok ? counters_.two_cone_poses : counters_.two_cone_refused);
+    }
   }
   const ConePoseResult& cp = r->cone_pose;
 
@@ -289,7 +303,8 @@ void TrackerAdapter::FillPose(const sensor_msgs::Image& im, const std::optional<
   } else if (cp.rejected_by & kPoseTooFewCones) {
     ++counters_.too_few_cones;
     r->status = FrameStatus::kTooFewCones;
-    why << seg.cones.size() << " cone(s) found: " << cp.error << " (3 needed)";
+    why << seg.cones.size() << " cone(s) found: " << cp.error
+        << (config_.two_cone_gravity_sigma_deg > 0.0 ? " (3 needed, or 2 with gravity and no track)" : " (3 needed)");
   } else if (cp.rejected_by & kPoseSolverFailed) {
     ++counters_.solver_failed;
     r->status = FrameStatus::kSolverFailed;
@@ -299,6 +314,7 @@ void TrackerAdapter::FillPose(const sensor_msgs::Image& im, const std::optional<
     r->status = FrameStatus::kRejectedChi2;
     why << "chi-square gate (6.4.1): " << cp.chi2 << " > " << cp.chi2_threshold << " at probability "
         << config_.pose.chi2_probability;
+    if (r->prediction_source == "two_cones_gravity") why << "; " << cp.error;
   } else if (cp.rejected_by & kPoseAmbiguous) {
     ++counters_.rejected_ambiguous;
     r->status = FrameStatus::kRejectedAmbiguous;

@@ -70,6 +70,20 @@ Vector6d Stack(const ConePoints2d& d) {
 
 }  // namespace
 
+std::vector<std::optional<rig_model::ImageBox>> LayoutSilhouettes(const ModelPointsAt& model, size_t num_cones,
+                                                                  const Eigen::Matrix3d& R_camera_cones,
+                                                                  const Eigen::Vector3d& eye, const CameraModel& cam,
+                                                                  double min_depth_m) {
+  std::vector<std::optional<rig_model::ImageBox>> boxes(num_cones);
+  for (size_t k = 0; k < num_cones; ++k) {
+    const ConePoints3d p = model(k, eye);
+    const Eigen::Vector3d peak = R_camera_cones * (p[0] - eye), base = R_camera_cones * (p[2] - eye);
+    if (!(peak.z() > min_depth_m && base.z() > min_depth_m)) continue;
+    boxes[k] = Silhouette(p, Pinhole(cam, peak), Pinhole(cam, base), base.z(), cam);
+  }
+  return boxes;
+}
+
 std::string AssociationConfig::Validate() const {
   if (!(sigma_px > 0.0)) return "sigma_px must be > 0";
   if (!(prediction_sigma_m > 0.0)) return "prediction_sigma_m must be > 0";
@@ -271,15 +285,8 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
   // layout cone, not only the candidates (the fit may move one into the image), projected unclipped.
   const auto misses_at = [&](const Vector6d& x, const std::vector<int>& a) {
     if (!(cfg.miss_cost > 0.0)) return 0;
-    const Eigen::Matrix3d Rx = Exp(x.head<3>()) * R;
-    const Eigen::Vector3d ex = eye + x.tail<3>();
-    std::vector<std::optional<rig_model::ImageBox>> boxes(num_cones);
-    for (size_t k = 0; k < num_cones; ++k) {
-      const ConePoints3d p = model(k, ex);
-      const Eigen::Vector3d peak = Rx * (p[0] - ex), base = Rx * (p[2] - ex);
-      if (!(peak.z() > cfg.min_depth_m && base.z() > cfg.min_depth_m)) continue;
-      boxes[k] = Silhouette(p, Pinhole(cam, peak), Pinhole(cam, base), base.z(), cam);
-    }
+    const auto boxes =
+        LayoutSilhouettes(model, num_cones, Exp(x.head<3>()) * R, eye + x.tail<3>(), cam, cfg.min_depth_m);
     std::vector<bool> seen(num_cones, false);
     for (int c : a)
       if (c >= 0) seen[size_t(out.candidates[size_t(c)].cone)] = true;

@@ -168,9 +168,15 @@ PnpResult Solve(const std::vector<ConeDetection>& dets, const std::vector<ConeMo
   return r;
 }
 
-// 6.4.1: chi2 of the image residuals (6.2), and its gate (6.3) with 2N - 6 dof
-// (the thesis's k = 2n less the six fitted pose parameters).
-double Chi2(const PnpResult& r, double sigma_px) {
+}  // namespace
+
+PnpResult SolveAssignment(const std::vector<ConeDetection>& dets, const std::vector<ConeModel>& cones,
+                          const std::vector<int>& a, const CameraModel& cam, const ConePoseConfig& cfg,
+                          const std::optional<pose_math::Pose>& initial) {
+  return Solve(dets, cones, a, cam, cfg, initial);
+}
+
+double ResidualChi2(const PnpResult& r, double sigma_px) {
   double chi2 = 0.0;
   for (const Eigen::Vector2d& e : r.residuals_px) chi2 += e.squaredNorm() / (sigma_px * sigma_px);
   return chi2;
@@ -179,8 +185,6 @@ double Chi2(const PnpResult& r, double sigma_px) {
 double Chi2Threshold(int dof, double probability) {
   return dof > 0 ? boost::math::quantile(boost::math::chi_squared(dof), probability) : INFINITY;
 }
-
-}  // namespace
 
 std::vector<ConeModel> ConeModels(const rig_model::Layout& layout) {
   std::vector<ConeModel> cones;
@@ -312,7 +316,7 @@ ConePoseResult EstimateConePose(const std::vector<ConeDetection>& dets, const st
       // A wrong hypothesis may gather more (distractor) matches than the right one, but not fit them.
       const bool consistent = r.reproj_rms_px <= std::max(search.max_consistent_rms_px, 3.0 * cfg.sigma_px);
       if (searched && !consistent) score += 1e4;
-      if (searched) solved.push_back({a, matched, Chi2(r, cfg.sigma_px), consistent});
+      if (searched) solved.push_back({a, matched, ResidualChi2(r, cfg.sigma_px), consistent});
       if (rival_only) continue;
       if (std::isfinite(cfg.initial_heading_rad)) {
         const Eigen::Vector3d eye = CameraInCones(r.T_camera_model);
@@ -344,7 +348,7 @@ ConePoseResult EstimateConePose(const std::vector<ConeDetection>& dets, const st
   // 6.4.1: χ² of the image residuals (6.2), gated by its CDF (6.3), with 2N - 6 dof
   // (the thesis's k = 2n less the six fitted pose parameters).
   const int dof = out.chi2_dof = int(out.pnp.residuals_px.size()) * 2 - 6;
-  out.chi2 = Chi2(out.pnp, cfg.sigma_px);
+  out.chi2 = ResidualChi2(out.pnp, cfg.sigma_px);
   out.chi2_threshold = Chi2Threshold(dof, cfg.chi2_probability);
   if (out.chi2 > out.chi2_threshold) out.rejected_by |= kPoseChi2;
   if (out.rival_chi2 <= out.chi2_threshold && out.rival_chi2 < out.chi2 + cfg.ambiguity_margin) {

@@ -37,6 +37,12 @@ struct NodeConfig {
   // A frame whose prediction then fails is solved again without it: the linear
   // algorithms re-initialise (3.1.6), the prediction's bearing breaking the tie.
   double reacquire_after_s = 1.0;
+  // The two-cone start (vision/two_cone_pose.h): without a prediction, a frame with exactly two cones is
+  // solved with the accelerometer's "up" (imu/data_raw, the mean over gravity_window_s around the image
+  // stamp, turned into camera_frame by tf) as a prior on the tilt with this 1-sigma error. 0: off (three
+  // cones start the track, as in the thesis).
+  double two_cone_gravity_sigma_deg = 3.0;
+  double gravity_window_s = 0.1;
   // Tie-break among the rotations of a symmetric layout without a prediction:
   // the camera's bearing around the layout, atan2(y, x) of its position in
   // `cones` (deg). NaN: none.

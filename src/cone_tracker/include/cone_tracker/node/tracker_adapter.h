@@ -52,8 +52,8 @@ struct FrameResult {
   std::string observation_source;  // "pose" (3.1.6's correspondence), "prediction" or "" (none)
   SegmentationResult segmentation;
   ConePoseResult cone_pose;
-  std::string prediction_source = "none";
-  bool time_jumped_back = false;  // the stamp went back: the last pose was cleared
+  std::string prediction_source = "none";  // tf, last_pose, reacquire, two_cones_gravity or none
+  bool time_jumped_back = false;           // the stamp went back: the last pose was cleared
 };
 
 struct TrackerCounters {
@@ -63,8 +63,10 @@ struct TrackerCounters {
   uint64_t no_cones = 0, too_few_cones = 0, solver_failed = 0, rejected_chi2 = 0, rejected_motion = 0;
   uint64_t rejected_ambiguous = 0;  // kRejectedAmbiguous
   uint64_t time_jumps = 0;
-  uint64_t reacquisitions = 0;   // frames where a lost track re-initialised after its prediction failed
-  uint64_t tf_overruled = 0;     // frames predicted from the own re-acquired track, tf contradicting it (Prediction)
+  uint64_t reacquisitions = 0;  // frames where a lost track re-initialised after its prediction failed
+  uint64_t tf_overruled = 0;    // frames predicted from the own re-acquired track, tf contradicting it (Prediction)
+  // The two-cone start (two_cone_pose.h): poses, frames it refused, frames it could not try (no gravity).
+  uint64_t two_cone_poses = 0, two_cone_refused = 0, two_cone_no_gravity = 0;
   uint64_t cones_found_sum = 0;  // accepted blobs over segmented frames
   uint64_t segmented_frames = 0;
   // cone_tracker/observations
@@ -87,9 +89,11 @@ class TrackerAdapter {
   // unusable; frames then give kBadCameraInfo until a valid one arrives.
   bool SetCameraInfo(const sensor_msgs::CameraInfo& info, std::string* error);
   // One frame. tf_T_cones_camera: the prediction from tf (pose_ekf), if any; tf_cov_ros: its covariance
-  // as pose_ekf/pose publishes it (ROS order x y z rx ry rz, rotations about the axes of `cones`), if any.
+  // as pose_ekf/pose publishes it (ROS order x y z rx ry rz, rotations about the axes of `cones`), if any;
+  // up_camera: "up" in the camera at the image stamp (GravityWindow), for the two-cone start, if any.
   FrameResult Process(const sensor_msgs::ImageConstPtr& image, const std::optional<pose_math::Pose>& tf_T_cones_camera,
-                      const std::optional<pose_math::Matrix6d>& tf_cov_ros = std::nullopt);
+                      const std::optional<pose_math::Matrix6d>& tf_cov_ros = std::nullopt,
+                      const std::optional<Eigen::Vector3d>& up_camera = std::nullopt);
   // dynamic_reconfigure: the colour table is rebuilt when the HSI bounds
   // change. Throws std::invalid_argument (config unchanged) on bad values.
   void Reconfigure(const SegmenterConfig& segmenter, const ConePoseConfig& pose, const DebugImageConfig& debug);
@@ -111,7 +115,7 @@ class TrackerAdapter {
                                             std::string* source);
   // track_lost: no pose for reacquire_after_s, so a failed prediction re-initialises.
   void FillPose(const sensor_msgs::Image& image, const std::optional<pose_math::Pose>& T_cones_camera_pred,
-                bool track_lost, FrameResult* r);
+                bool track_lost, const std::optional<Eigen::Vector3d>& up_camera, FrameResult* r);
   // cone_tracker/observations: the pose's correspondence when it passed the
   // gates, else the association through the prediction.
   // pred_cov_ros: the prediction's covariance (pose_ekf's), else the drift model below.

@@ -95,6 +95,14 @@ Eigen::Matrix<double, 6, 6> AssociationPrior(const pose_math::Quat& q_cones_came
 // camera metres after an outage, asks for them at every pose it tries.
 using ModelPointsAt = std::function<ConePoints3d(size_t cone, const Eigen::Vector3d& p_camera_in_cones_m)>;
 
+// Every layout cone's silhouette (rig_model::SilhouetteBox) seen from a camera at `eye` (in `cones`) turned by
+// R_camera_cones, unclipped; nullopt for a cone whose peak or base is not min_depth_m in front of the camera. What
+// rig_model::InPlainView judges (the association's misses, the two-cone start's).
+std::vector<std::optional<rig_model::ImageBox>> LayoutSilhouettes(const ModelPointsAt& model, size_t num_cones,
+                                                                  const Eigen::Matrix3d& R_camera_cones,
+                                                                  const Eigen::Vector3d& eye, const CameraModel& cam,
+                                                                  double min_depth_m);
+
 // detections: undistorted points; point_cov: their 2x2 covariances (PointCovariances);
 // model: the points of layout cones 0 .. num_cones - 1 (cone_pose.h's LayoutSeenFrom); camera: the pinhole of
 // the undistorted pixels.

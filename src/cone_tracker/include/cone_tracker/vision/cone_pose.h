@@ -94,4 +94,15 @@ ConePoseResult EstimateConePose(const std::vector<ConeDetection>& detections, co
                                 const CameraModel& camera, const ConePoseConfig& config,
                                 const std::optional<pose_math::Pose>& predicted_T_camera_cones);
 
+// The pieces EstimateConePose is made of, for the two-cone start (two_cone_pose.h).
+// The single-frame pose of one assignment (model cone per detection, -1 none) from a start pose (none: the
+// linear algorithms), the surface points and the image of the mid point corrected from the solution until
+// the eye settles (3.1.4).
+PnpResult SolveAssignment(const std::vector<ConeDetection>& detections, const std::vector<ConeModel>& cones,
+                          const std::vector<int>& cone_of_detection, const CameraModel& camera,
+                          const ConePoseConfig& config, const std::optional<pose_math::Pose>& initial_T_camera_cones);
+// 6.4.1: chi2 of a solution's image residuals (6.2) at sigma_px, and the gate (6.3) at a probability.
+double ResidualChi2(const PnpResult& r, double sigma_px);
+double Chi2Threshold(int dof, double probability);
+
 }  // namespace cone_tracker
