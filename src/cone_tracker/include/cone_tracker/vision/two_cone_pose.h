@@ -46,9 +46,9 @@ ConePoseResult EstimateTwoConePose(const std::vector<ConeDetection>& detections,
                                    const GravityPrior& gravity);
 
 // The accelerometer's mean direction over a short window around an image stamp: "up" in the camera (at rest
-// the specific force is -g, i.e. it points up). Handheld motion adds its own acceleration; on rig_sim's
-// look_away and handheld runs a 0.1 s window was 0.5-1.0 deg off the true up in the median, 3-6 deg at the
-// 95th percentile (README, "Two cones and gravity").
+// the specific force is -g, i.e. it points up). Handheld motion adds its own acceleration: on rig_sim's
+// look_away runs a 0.1 s window was about 1 deg off the true up in the median and 5 deg at the 95th percentile,
+// more in fast swings (README, "Two cones and gravity").
 class GravityWindow {
  public:
   explicit GravityWindow(double keep_s = 1.0) : keep_s_(keep_s) {}
