@@ -14,13 +14,10 @@
 
 #include <algorithm>
 #include <deque>
-#include <map>
 #include <memory>
 #include <optional>
 #include <set>
 #include <utility>
-
-#include <Eigen/Geometry>
 
 #include "cone_tracker/ConeTrackerConfig.h"
 #include "cone_tracker/node/layout.h"
@@ -31,6 +28,7 @@
 #include "pose_math/pose.h"
 #include "rig_model/ros/conversions.h"
 #include "rig_model/ros/diagnostics.h"
+#include "rig_model/ros/imu_mount.h"
 #include "rig_model/ros/param_table_ros.h"
 
 namespace cone_tracker {
@@ -67,10 +65,9 @@ class ConeTrackerNodelet : public nodelet::Nodelet {
   image_transport::Subscriber image_sub_;
   image_transport::Publisher debug_pub_;
   ros::Subscriber info_sub_, filter_pose_sub_, imu_sub_;
-  // The two-cone start's gravity: the accelerometer in camera_frame, and the camera <- IMU rotation per IMU frame
-  // (static tf, looked up once).
+  // The two-cone start's gravity: the accelerometer in camera_frame, and the camera <- IMU mount per IMU frame.
   GravityWindow gravity_;
-  std::map<std::string, Eigen::Quaterniond> imu_rotations_;
+  rig_model::ImuMountCache imu_mounts_;
   std::deque<std::pair<ros::Time, pose_math::Matrix6d>> filter_covs_;  // pose_ekf/pose's, the last second
   ros::Publisher pose_pub_, detections_pub_, observations_pub_, markers_pub_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
@@ -261,27 +258,21 @@ std::optional<pose_math::Matrix6d> ConeTrackerNodelet::FilterCovariance(const ro
   return best->second;
 }
 
-// The accelerometer, turned into camera_frame, for the two-cone start's "up" (GravityWindow). The rotation comes
-// from the static tf the rig description publishes (camera_imu in the calibration), as pose_ekf takes it.
+// The accelerometer, turned into camera_frame, for the two-cone start's "up" (GravityWindow), through the camera-IMU
+// mount pose_ekf uses too (rig_model::ImuMountCache).
 void ConeTrackerNodelet::OnImu(const sensor_msgs::ImuConstPtr& msg) {
   if (!adapter_ || !tf_buffer_) return;
-  const std::string& frame = msg->header.frame_id;
-  auto it = imu_rotations_.find(frame);
-  if (it == imu_rotations_.end()) {
-    try {
-      const auto tf = tf_buffer_->lookupTransform(adapter_->config().camera_frame, frame, ros::Time(0));
-      const auto& q = tf.transform.rotation;
-      it = imu_rotations_.emplace(frame, Eigen::Quaterniond(q.w, q.x, q.y, q.z).normalized()).first;
-    } catch (const tf2::TransformException& e) {
-      ++imu_refused_;
-      NODELET_WARN_THROTTLE(5.0, "cone_tracker: %s: no tf %s <- '%s' yet (%s): no gravity for the two-cone start",
-                            imu_sub_.getTopic().c_str(), adapter_->config().camera_frame.c_str(), frame.c_str(),
-                            e.what());
-      return;
-    }
+  std::string error;
+  const std::optional<rig_model::ImuMount> mount =
+      imu_mounts_.Lookup(*tf_buffer_, adapter_->config().camera_frame, msg->header.frame_id, 0.0, &error);
+  if (!mount) {
+    ++imu_refused_;
+    NODELET_WARN_THROTTLE(5.0, "cone_tracker: %s: %s: no gravity for the two-cone start", imu_sub_.getTopic().c_str(),
+                          error.c_str());
+    return;
   }
   const auto& a = msg->linear_acceleration;
-  if (!gravity_.Add(msg->header.stamp.toSec(), it->second * Eigen::Vector3d(a.x, a.y, a.z))) {
+  if (!gravity_.Add(msg->header.stamp.toSec(), mount->q_camera_imu * Eigen::Vector3d(a.x, a.y, a.z))) {
     ++imu_refused_;
     NODELET_WARN_THROTTLE(5.0, "cone_tracker: %s: non-finite linear_acceleration or stamp, sample dropped",
                           imu_sub_.getTopic().c_str());
@@ -297,11 +288,12 @@ void ConeTrackerNodelet::OnImage(const sensor_msgs::ImageConstPtr& msg) {
     any_frame_ = true;
     image_freq_->Tick(msg->header.stamp);
     const NodeConfig& c = adapter_->config();
-    const std::optional<Eigen::Vector3d> up = c.two_cone_gravity_sigma_deg > 0.0
+    const std::optional<pose_math::Pose> tf_prediction = TfPrediction(msg->header.stamp);
+    // Gravity only for a frame the two-cone start may take: none while pose_ekf's tf predicts (the tracking case).
+    const std::optional<Eigen::Vector3d> up = c.two_cone_gravity_sigma_deg > 0.0 && !tf_prediction
                                                   ? gravity_.UpAt(msg->header.stamp.toSec(), 0.5 * c.gravity_window_s)
                                                   : std::nullopt;
-    const FrameResult r =
-        adapter_->Process(msg, TfPrediction(msg->header.stamp), FilterCovariance(msg->header.stamp), up);
+    const FrameResult r = adapter_->Process(msg, tf_prediction, FilterCovariance(msg->header.stamp), up);
     if (r.pose) {
       pose_freq_->Tick(r.pose->header.stamp);
       pose_pub_.publish(r.pose);

@@ -9,6 +9,7 @@
 
 #include "cone_tracker/pose/associate.h"
 #include "pose_math/covariance.h"
+#include "pose_math/pose.h"
 #include "pose_math/quaternion.h"
 #include "pose_math/rotation.h"
 #include "rig_model/cone_view.h"
@@ -18,17 +19,13 @@ namespace {
 
 constexpr int kTwoConeDof = 2 * 6 - 6 + 2;  // six image points less the pose, plus gravity's two components
 
-Eigen::Vector3d Ray(const CameraModel& cam, const Eigen::Vector2d& px) {
-  return {(px.x() - cam.cx_px) / cam.fx_px, (px.y() - cam.cy_px) / cam.fy_px, 1.0};
-}
-
 // The base of a cone standing along `up`, its peak height_m above: s_p r_p - s_b r_b = height_m up in least
-// squares over the ray lengths; none when either lies behind the camera.
-std::optional<Eigen::Vector3d> BaseOnRays(const ConeDetection& d, double height_m, const CameraModel& cam,
+// squares over the ray lengths; none when either lies behind the camera. pinhole: the undistorted pixels' camera.
+std::optional<Eigen::Vector3d> BaseOnRays(const ConeDetection& d, double height_m, const CameraModel& pinhole,
                                           const Eigen::Vector3d& up) {
-  const Eigen::Vector3d r_base = Ray(cam, d.base_undist_px);
+  const Eigen::Vector3d r_base = pinhole.PixelRay(d.base_undist_px.x(), d.base_undist_px.y());
   Eigen::Matrix<double, 3, 2> A;
-  A << Ray(cam, d.peak_undist_px), -r_base;
+  A << pinhole.PixelRay(d.peak_undist_px.x(), d.peak_undist_px.y()), -r_base;
   const Eigen::Vector2d s = A.colPivHouseholderQr().solve(height_m * up);
   if (!(s(0) > 0.0 && s(1) > 0.0)) return std::nullopt;
   return s(1) * r_base;
@@ -37,8 +34,9 @@ std::optional<Eigen::Vector3d> BaseOnRays(const ConeDetection& d, double height_
 // A start with layout cone a at detection 0 and b at detection 1: gravity gives the tilt, the line joining the two
 // bases the heading, their mean the position. T_camera_cones.
 std::optional<pose_math::Pose> GravityStart(const std::vector<ConeDetection>& dets, const ConeModel& a,
-                                            const ConeModel& b, const CameraModel& cam, const Eigen::Vector3d& up) {
-  const auto base_a = BaseOnRays(dets[0], a.height_m, cam, up), base_b = BaseOnRays(dets[1], b.height_m, cam, up);
+                                            const ConeModel& b, const CameraModel& pinhole, const Eigen::Vector3d& up) {
+  const auto base_a = BaseOnRays(dets[0], a.height_m, pinhole, up),
+             base_b = BaseOnRays(dets[1], b.height_m, pinhole, up);
   if (!base_a || !base_b) return std::nullopt;
   Eigen::Vector3d across_camera = *base_b - *base_a, across_cones = b.base_m - a.base_m;
   across_camera -= up * up.dot(across_camera);
@@ -66,16 +64,12 @@ Eigen::Vector2d GravityResidual(const Eigen::Matrix3d& R_camera_cones, const Eig
   return B.transpose() * (up - h);
 }
 
-Eigen::Vector2d Pinhole(const CameraModel& cam, const Eigen::Vector3d& p) {
-  return {cam.fx_px * p.x() / p.z() + cam.cx_px, cam.fy_px * p.y() / p.z() + cam.cy_px};
-}
-
 // Gravity fused into the image-only solution as a measurement of its tilt: h = R_camera_cones e_z, which a left
 // rotation perturbation (ROS's, pose_math/covariance.h) moves by -S(h) dtheta. One Kalman update of T_camera_cones
 // and its covariance (Joseph form). The residuals are then those at the fused pose (the solution's model points
 // and image points), and the returned chi-square is the cost there, image and gravity, not its linearisation:
 // an "up" far off (the rig accelerating) cannot pass by pulling the pose along a weak direction.
-double FuseGravity(const GravityPrior& g, const std::vector<Eigen::Vector3d>& model_points, const CameraModel& cam,
+double FuseGravity(const GravityPrior& g, const std::vector<Eigen::Vector3d>& model_points, const CameraModel& pinhole,
                    double sigma_px, PnpResult* r) {
   const Eigen::Matrix3d R = pose_math::RotationFromQuat(r->T_camera_model.q);
   Eigen::Matrix<double, 3, 2> B;
@@ -93,7 +87,9 @@ double FuseGravity(const GravityPrior& g, const std::vector<Eigen::Vector3d>& mo
   double chi2 = GravityResidual(R_new, g.up_camera).squaredNorm() / (g.sigma_rad * g.sigma_rad), sum2 = 0.0;
   for (size_t i = 0; i < model_points.size() && i < r->residuals_px.size(); ++i) {
     const Eigen::Vector3d before = R * model_points[i] + r->T_camera_model.t, after = R_new * model_points[i] + t_new;
-    r->residuals_px[i] += Pinhole(cam, after) - Pinhole(cam, before);
+    Eigen::Vector2d uv_after, uv_before;
+    pinhole.Project(after, &uv_after), pinhole.Project(before, &uv_before);  // in front: the solver checked
+    r->residuals_px[i] += uv_after - uv_before;
     chi2 += r->residuals_px[i].squaredNorm() / (sigma_px * sigma_px);
     sum2 += r->residuals_px[i].squaredNorm();
   }
@@ -109,10 +105,9 @@ double FuseGravity(const GravityPrior& g, const std::vector<Eigen::Vector3d>& mo
 // accepted or refused (a refused blob is a cone the gates turned down, not a miss).
 int Misses(const pose_math::Pose& T_camera_cones, int a, int b, const std::vector<ConeModel>& cones,
            const CameraModel& cam, const std::vector<ConeDetection>& rejected) {
-  const Eigen::Matrix3d R = pose_math::RotationFromQuat(T_camera_cones.q);
-  const Eigen::Vector3d eye = -R.transpose() * T_camera_cones.t;
   const auto boxes =
-      LayoutSilhouettes(LayoutSeenFrom(cones), cones.size(), R, eye, cam, AssociationConfig().min_depth_m);
+      LayoutSilhouettes(LayoutSeenFrom(cones), cones.size(), pose_math::RotationFromQuat(T_camera_cones.q),
+                        pose_math::Invert(T_camera_cones).t, cam, AssociationConfig().min_depth_m);
   const std::vector<bool> plain = rig_model::InPlainView(boxes, cam.width_px, cam.height_px);
   int misses = 0;
   for (size_t k = 0; k < cones.size(); ++k) {
@@ -150,6 +145,8 @@ ConePoseResult EstimateTwoConePose(const std::vector<ConeDetection>& dets, const
     return out;
   }
   g.up_camera.normalize();
+  CameraModel pinhole = cam;  // the detections' points are undistorted already (3.1.2)
+  pinhole.distortion.clear();
   struct Hypothesis {
     std::vector<int> a;
     PnpResult pnp;
@@ -161,18 +158,17 @@ ConePoseResult EstimateTwoConePose(const std::vector<ConeDetection>& dets, const
   for (int a = 0; a < int(cones.size()); ++a) {
     for (int b = 0; b < int(cones.size()); ++b) {
       if (a == b) continue;
-      const auto start = GravityStart(dets, cones[size_t(a)], cones[size_t(b)], cam, g.up_camera);
+      const auto start = GravityStart(dets, cones[size_t(a)], cones[size_t(b)], pinhole, g.up_camera);
       if (!start) continue;
       Hypothesis h{{a, b}, SolveAssignment(dets, cones, {a, b}, cam, cfg, start), INFINITY};
       if (!h.pnp.ok) continue;
       ++solved;
       // The model points the solution fitted: its eye's surface points (3.1.4), peak, mid and base per cone.
-      const Eigen::Matrix3d R = pose_math::RotationFromQuat(h.pnp.T_camera_model.q);
-      const Eigen::Vector3d eye = -R.transpose() * h.pnp.T_camera_model.t;
+      const Eigen::Vector3d eye = pose_math::Invert(h.pnp.T_camera_model).t;
       std::vector<Eigen::Vector3d> model;
       for (int c : h.a)
         for (const Eigen::Vector3d& p : CorrectedModelPoints(cones[size_t(c)], eye)) model.push_back(p);
-      h.chi2 = FuseGravity(g, model, cam, cfg.sigma_px, &h.pnp);
+      h.chi2 = FuseGravity(g, model, pinhole, cfg.sigma_px, &h.pnp);
       if (!(h.chi2 <= out.chi2_threshold)) {
         best_refused = std::min(best_refused, h.chi2);
       } else if (Misses(h.pnp.T_camera_model, a, b, cones, cam, rejected) > 0) {
@@ -190,8 +186,7 @@ ConePoseResult EstimateTwoConePose(const std::vector<ConeDetection>& dets, const
     return out;
   }
   const auto heading = [](const Hypothesis& h) {
-    const Eigen::Matrix3d R = pose_math::RotationFromQuat(h.pnp.T_camera_model.q);
-    const Eigen::Vector3d eye = -R.transpose() * h.pnp.T_camera_model.t;
+    const Eigen::Vector3d eye = pose_math::Invert(h.pnp.T_camera_model).t;
     return std::atan2(eye.y(), eye.x());
   };
   std::sort(passed.begin(), passed.end(), [](const Hypothesis& x, const Hypothesis& y) { return x.chi2 < y.chi2; });

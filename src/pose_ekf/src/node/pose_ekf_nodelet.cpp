@@ -10,13 +10,12 @@
 #include <tf2_ros/transform_listener.h>
 #include <pluginlib/class_list_macros.hpp>
 
-#include <map>
 #include <memory>
-#include <set>
 
 #include "pose_ekf/PoseEkfConfig.h"
 #include "pose_ekf/node/pose_ekf_adapter.h"
 #include "rig_model/ros/diagnostics.h"
+#include "rig_model/ros/imu_mount.h"
 #include "rig_model/ros/param_table_ros.h"
 
 namespace pose_ekf {
@@ -51,8 +50,7 @@ class PoseEkfNodelet : public nodelet::Nodelet {
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   std::unique_ptr<tf2_ros::TransformBroadcaster> tf_broadcaster_;
-  std::map<std::string, Eigen::Quaterniond> imu_rotations_;  // static camera-IMU rotation per IMU frame
-  std::map<std::string, Eigen::Vector3d> imu_lever_arms_;    // and its translation, the IMU in the camera frame
+  rig_model::ImuMountCache imu_mounts_;  // the static camera-IMU rotation and lever arm per IMU frame
   std::unique_ptr<rig_model::WallDiagnostics> diagnostics_;  // first: a refused config is published too
   std::unique_ptr<rig_model::StampRateTask> imu_freq_, camera_freq_, observations_freq_;
   boost::recursive_mutex reconfigure_mutex_;  // lets updateConfig() seed the server safely
@@ -60,9 +58,8 @@ class PoseEkfNodelet : public nodelet::Nodelet {
   ros::Time last_now_;
   double last_published_stamp_s_ = -1.0;
   uint64_t imu_without_tf_ = 0, imu_without_tf_reported_ = 0;
-  uint64_t time_jumps_back_ = 0;        // ROS time or a message stamp: each one reset the filter
-  std::string imu_tf_error_;            // why the last IMU sample had no camera-IMU rotation
-  std::set<std::string> imu_tf_tried_;  // IMU frames whose tf was looked up once (with the timeout)
+  uint64_t time_jumps_back_ = 0;  // ROS time or a message stamp: each one reset the filter
+  std::string imu_tf_error_;      // why the last IMU sample had no camera-IMU rotation
 };
 
 void PoseEkfNodelet::onInit() {
@@ -156,8 +153,7 @@ void PoseEkfNodelet::CheckTimeJump() {
     ++time_jumps_back_;
     adapter_->Reset();
     adapter_->buffer().TakeResetWarning();
-    imu_rotations_.clear();
-    imu_lever_arms_.clear();
+    imu_mounts_.Clear();
     tf_buffer_->clear();
     last_published_stamp_s_ = -1.0;
   }
@@ -231,49 +227,25 @@ void PoseEkfNodelet::OnImu(const sensor_msgs::ImuConstPtr& msg) {
 // The camera-IMU rotation and lever arm are a static transform (3.2.2): looked up once per IMU frame.
 bool PoseEkfNodelet::ImuRotation(const std::string& imu_frame, Eigen::Quaterniond* q, Eigen::Vector3d* p) {
   const std::string& camera_frame = adapter_->config().camera_frame;
-  if (imu_frame.empty()) {
-    imu_tf_error_ = "IMU message without frame_id";
-    NODELET_WARN_THROTTLE(5.0, "pose_ekf: IMU message without frame_id (REP-145 needs it): not used");
+  bool fresh = false;
+  const std::optional<rig_model::ImuMount> mount =
+      imu_mounts_.Lookup(*tf_buffer_, camera_frame, imu_frame, adapter_->config().tf_timeout_s, &imu_tf_error_, &fresh);
+  if (!mount) {
+    NODELET_WARN_THROTTLE(2.0, "pose_ekf: %s (IMU sample not used)", imu_tf_error_.c_str());
     return false;
   }
-  if (imu_frame == camera_frame) {
-    *q = Eigen::Quaterniond::Identity();
-    p->setZero();
-    return true;
+  const std::string refused = CheckLeverArm(mount->p_imu_in_camera_m, camera_frame, imu_frame);
+  if (!refused.empty()) {
+    imu_tf_error_ = refused;
+    NODELET_ERROR_THROTTLE(5.0, "pose_ekf: %s", refused.c_str());
+    return false;
   }
-  const auto it = imu_rotations_.find(imu_frame);
-  if (it != imu_rotations_.end()) {
-    *q = it->second;
-    *p = imu_lever_arms_[imu_frame];
-    return true;
-  }
-  try {
-    // Only the first lookup of a frame waits: a missing tf must not stall every 100 Hz sample (and with
-    // it this queue's diagnostics), and tf2's wait runs on ros::Time, which stands still with /clock.
-    const bool first = imu_tf_tried_.insert(imu_frame).second;
-    const auto tf = tf_buffer_->lookupTransform(camera_frame, imu_frame, ros::Time(0),
-                                                ros::Duration(first ? adapter_->config().tf_timeout_s : 0.0));
-    const auto& r = tf.transform.rotation;
-    const auto& t = tf.transform.translation;
-    *p = Eigen::Vector3d(t.x, t.y, t.z);
-    const std::string refused = CheckLeverArm(*p, camera_frame, imu_frame);
-    if (!refused.empty()) {
-      imu_tf_error_ = refused;
-      NODELET_ERROR_THROTTLE(5.0, "pose_ekf: %s", refused.c_str());
-      return false;
-    }
-    *q = Eigen::Quaterniond(r.w, r.x, r.y, r.z).normalized();
-    imu_rotations_[imu_frame] = *q;
-    imu_lever_arms_[imu_frame] = *p;
+  *q = mount->q_camera_imu;
+  *p = mount->p_imu_in_camera_m;
+  if (fresh)
     NODELET_INFO("pose_ekf: camera-IMU rotation %s <- %s found, lever arm [%.3f %.3f %.3f] m", camera_frame.c_str(),
                  imu_frame.c_str(), p->x(), p->y(), p->z());
-    return true;
-  } catch (const tf2::TransformException& e) {
-    imu_tf_error_ = "no tf " + camera_frame + " <- " + imu_frame + ": " + e.what();
-    NODELET_WARN_THROTTLE(2.0, "pose_ekf: no tf %s <- %s yet (IMU sample not used): %s", camera_frame.c_str(),
-                          imu_frame.c_str(), e.what());
-    return false;
-  }
+  return true;
 }
 
 void PoseEkfNodelet::Publish() {
