@@ -1,5 +1,6 @@
-// A cone cut by the image's bottom edge inside its first collar: its orange top looks like a whole,
-// shorter cone (cut_cone.h). The frames are rig_sim's, cropped: the same image with fewer rows.
+// Cones cut by the image's edge. One cut inside its first collar: its orange top looks like a whole, shorter
+// cone (cut_cone.h). One whose tip alone touches the edge: measured as whole (segmenter.h, border_px). One cut
+// at its base or along its side: refused. The frames are rig_sim's, cropped: the same image, fewer rows or columns.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -83,6 +84,95 @@ TEST_F(CutCone, WholeConeStandingNearTheEdgeIsKept) {
   const ConeDetection* kept = Near(r.cones, lowest_->peak_px);
   ASSERT_NE(kept, nullptr);
   EXPECT_LT((kept->base_px - lowest_->base_px).norm(), 2.0);
+}
+
+// The frame from row `first` down: a camera whose image starts there (the principal point moves up with it).
+struct TopCrop {
+  ImageView image;
+  CameraModel camera;
+};
+TopCrop CroppedFromTop(const SimFrame& f, int first) {
+  CameraModel camera = f.camera;
+  camera.cy_px -= first, camera.height_px -= first;
+  const int step = f.camera.width_px * 3;
+  return {{f.rgb.data() + size_t(first) * size_t(step), f.camera.width_px, camera.height_px, step, "rgb8"}, camera};
+}
+
+TEST_F(CutCone, ConeWhoseTipTouchesTheEdgeIsMeasuredAsWhole) {
+  // The cone whose peak is highest in the image: the crop there cuts the tip of no other.
+  const TruthCone* top = &frame_.truth[0];
+  for (const TruthCone& t : frame_.truth)
+    if (t.peak_px.y() < top->peak_px.y()) top = &t;
+  for (int cut : {1, 2}) {
+    const int first = int(std::ceil(top->peak_px.y())) + cut;
+    const TopCrop crop = CroppedFromTop(frame_, first);
+    Segmenter seg{SegmenterConfig()};
+    const SegmentationResult r = seg.Process(crop.image, crop.camera);
+    ASSERT_TRUE(r.ok) << r.error;
+    const Eigen::Vector2d shift(0.0, first);
+    const ConeDetection* kept = Near(r.cones, top->peak_px - shift);
+    ASSERT_NE(kept, nullptr) << "cut " << cut << " px below the peak: refused";
+    EXPECT_LE(kept->blob.bbox_y, SegmenterConfig().border_px) << "the blob does not reach the edge; this shows nothing";
+    EXPECT_LT((kept->peak_px - (top->peak_px - shift)).norm(), 1.5) << "cut " << cut;
+    EXPECT_LT((kept->base_px - (top->base_px - shift)).norm(), 1.5) << "cut " << cut;
+  }
+}
+
+TEST_F(CutCone, ConeCutBeyondItsTipZoneFailsTheBorderGate) {
+  const TruthCone* top = &frame_.truth[0];
+  for (const TruthCone& t : frame_.truth)
+    if (t.peak_px.y() < top->peak_px.y()) top = &t;
+  // A fifth of the cone gone: the edge crosses where the silhouette is several pixels wide.
+  const int first = int(std::lround(top->peak_px.y() + 0.2 * (top->base_px.y() - top->peak_px.y())));
+  const TopCrop crop = CroppedFromTop(frame_, first);
+  Segmenter seg{SegmenterConfig()};
+  const SegmentationResult r = seg.Process(crop.image, crop.camera);
+  ASSERT_TRUE(r.ok) << r.error;
+  const Eigen::Vector2d base = top->base_px - Eigen::Vector2d(0.0, first);
+  for (const ConeDetection& d : r.cones) EXPECT_GT((d.base_px - base).norm(), 4.0) << "the cut cone was accepted";
+  bool refused = false;
+  for (const ConeDetection& d : r.rejected) refused |= (d.base_px - base).norm() < 4.0 && (d.failed_gates & kGateBorder);
+  EXPECT_TRUE(refused);
+}
+
+TEST_F(CutCone, ConeWhoseBaseIsCutFailsTheBorderGate) {
+  // The image ends a few rows above the base: the base arc runs along the edge, a straight row that the outline's
+  // parabola fits, so only the border gate knows that the base is not measured.
+  for (int above : {2, 4}) {
+    const int rows = int(std::lround(lowest_->base_px.y())) - above;
+    Segmenter seg{SegmenterConfig()};
+    const SegmentationResult r = seg.Process(Cropped(frame_, rows), frame_.camera);
+    ASSERT_TRUE(r.ok) << r.error;
+    EXPECT_EQ(Near(r.cones, lowest_->peak_px), nullptr) << "the cone cut " << above << " px above its base was accepted";
+    const ConeDetection* refused = Near(r.rejected, lowest_->peak_px);
+    ASSERT_NE(refused, nullptr);
+    EXPECT_TRUE(refused->failed_gates & kGateBorder);
+  }
+}
+
+TEST_F(CutCone, ConeCutAlongItsSideFailsTheBorderGate) {
+  // The leftmost cone with the left quarter of its box cut away: its apex and base stay in the image, and the image's
+  // edge, a straight line, may pass for the cone's left edge in the outline fit.
+  Segmenter seg{SegmenterConfig()};
+  const SegmentationResult whole = seg.Process(Cropped(frame_, frame_.camera.height_px), frame_.camera);
+  ASSERT_TRUE(whole.ok && !whole.cones.empty()) << whole.error;
+  const ConeDetection& left = whole.cones.front();  // sorted by the peak's u
+  const int first = left.blob.bbox_x + left.blob.bbox_w / 4;
+  CameraModel camera = frame_.camera;
+  camera.cx_px -= first, camera.width_px -= first;
+  const ImageView image{frame_.rgb.data() + 3 * size_t(first), camera.width_px, camera.height_px,
+                        frame_.camera.width_px * 3, "rgb8"};
+  const SegmentationResult r = seg.Process(image, camera);
+  ASSERT_TRUE(r.ok) << r.error;
+  const Eigen::Vector2d shift(first, 0.0);
+  EXPECT_EQ(Near(r.cones, left.peak_px - shift), nullptr) << "the cone cut along its side was accepted";
+  int on_edge = 0;  // the cut cone's blob, whatever its line search made of it
+  for (const ConeDetection& d : r.rejected)
+    if (d.blob.bbox_x <= SegmenterConfig().border_px) {
+      ++on_edge;
+      EXPECT_TRUE(d.failed_gates & kGateBorder);
+    }
+  EXPECT_EQ(on_edge, 1);
 }
 
 TEST(CutConeTest, OffOrDegenerateInputsNeverCut) {

@@ -193,9 +193,10 @@ OutlineFit FitConeOutline(const std::vector<Run>& runs, const Eigen::Vector2d& p
   for (const auto* side : {&left, &right})
     for (const Eigen::Vector2d& p : *side) tip = std::min(tip, (p - peak0).dot(dir0));
   const double tan_half = std::tan(0.5 * std::abs(std::atan(fl.b) - std::atan(fr.b)));
+  out.tip_zone_px = 3.0 + 1.0 / std::max(tan_half, 0.02);
   const double along = ((apex - peak0).dot(dir0) - tip) / raw_px,
                lateral = std::abs((apex - peak0).dot(Eigen::Vector2d(dir0.y(), -dir0.x()))) / raw_px;
-  if (along > 1.5 || along < -(3.0 + 1.0 / std::max(tan_half, 0.02)) ||
+  if (along > 1.5 || along < -out.tip_zone_px ||
       lateral > 3.0 + config.max_apex_gap_frac * h0 / raw_px)
     return out.why = "apex does not fit the tip", out;
   // The axis: the mirror plane's image is the bisector of the edges as unit

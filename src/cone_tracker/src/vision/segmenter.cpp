@@ -79,6 +79,23 @@ bool OrangeBelowBase(const MaskView& mask, const Eigen::Vector2d& peak, const Ei
   return false;
 }
 
+// Whether every pixel of the blob within bp of the image's edge lies within tip_zone_px (along the axis) of the
+// apex: the edge cuts off only the part of the tip that the outline's apex does not rest on (OutlineFit).
+bool OnlyTipAtEdge(const std::vector<Run>& runs, int width, int height, int bp, const Eigen::Vector2d& peak,
+                   const Eigen::Vector2d& base, double tip_zone_px) {
+  const Eigen::Vector2d d = (base - peak).normalized();
+  if (!d.allFinite() || !(tip_zone_px > 0.0)) return false;
+  const auto at_tip = [&](int x, int y) { return (Eigen::Vector2d(x, y) - peak).dot(d) <= tip_zone_px; };
+  for (const Run& r : runs) {
+    if (r.y <= bp || r.y >= height - 1 - bp) {  // the whole run is on the edge; its ends bound it along the axis
+      if (!at_tip(r.x0, r.y) || !at_tip(r.x1, r.y)) return false;
+      continue;
+    }
+    if ((r.x0 <= bp && !at_tip(r.x0, r.y)) || (r.x1 >= width - 1 - bp && !at_tip(r.x1, r.y))) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 std::string SegmenterConfig::Validate() const {
@@ -219,7 +236,8 @@ bool Segmenter::IsBand(const Eigen::Vector2d& from, const Eigen::Vector2d& to, d
   return total > 0 && band >= 0.6 * total;
 }
 
-bool Segmenter::Measure(const MaskView& mask, const CameraModel& camera, ConeDetection* det) const {
+bool Segmenter::Measure(const MaskView& mask, const CameraModel& camera, ConeDetection* det,
+                        double* tip_zone_px) const {
   const Blob& b = det->blob;
   const Eigen::Vector2d axis(std::cos(b.orientation_rad), std::sin(b.orientation_rad));
   // Extent of the blob along its axis; a merged blob's line search may cross
@@ -267,6 +285,7 @@ bool Segmenter::Measure(const MaskView& mask, const CameraModel& camera, ConeDet
       if (fit.ok) {
         det->peak_px = fit.peak_px, det->base_px = fit.base_px;
         det->peak_undist_px = fit.peak_undist_px, det->base_undist_px = fit.base_undist_px;
+        *tip_zone_px = fit.tip_zone_px;
         return true;
       }
       if (fit.why.find("distortion") != std::string::npos) {  // a broken camera model, not a bad blob
@@ -327,14 +346,18 @@ SegmentationResult Segmenter::Process(const ImageView& image, const CameraModel&
     const Blob& d = det.blob;
     if (d.area < c.min_area_px || d.area > c.max_area_px) det.failed_gates |= kGateArea;
     const int bp = c.border_px;
-    if (d.bbox_x <= bp || d.bbox_y <= bp || d.bbox_x + d.bbox_w >= image.width - bp ||
-        d.bbox_y + d.bbox_h >= image.height - bp)
-      det.failed_gates |= kGateBorder;  // part of the cone may be outside the image
+    const bool at_border = d.bbox_x <= bp || d.bbox_y <= bp || d.bbox_x + d.bbox_w >= image.width - bp ||
+                           d.bbox_y + d.bbox_h >= image.height - bp;
     if (d.solidity < c.min_solidity || d.solidity > c.max_solidity) det.failed_gates |= kGateSolidity;
     if (d.axis_ratio < c.min_axis_ratio || d.axis_ratio > c.max_axis_ratio) det.failed_gates |= kGateAxisRatio;
     if (std::abs(std::cos(d.orientation_rad)) > std::sin(c.max_tilt_deg * M_PI / 180.0))
       det.failed_gates |= kGateTilt;  // |angle from vertical| > max_tilt
-    const bool undistorted = det.failed_gates == 0 && Measure(mask, camera, &det);
+    double tip_zone_px = 0.0;
+    const bool undistorted = det.failed_gates == 0 && Measure(mask, camera, &det, &tip_zone_px);
+    // Part of the cone may be outside the image; not when only the tip zone of its outline is on the edge.
+    if (at_border && !(undistorted && OnlyTipAtEdge(d.runs, image.width, image.height, bp, det.peak_px, det.base_px,
+                                                    tip_zone_px)))
+      det.failed_gates |= kGateBorder;
     if (det.failed_gates == 0 && !CheckConeShape(d.runs, det.peak_px, det.base_px, c.shape).ok)
       det.failed_gates |= kGateShape;
     if (det.failed_gates == 0 &&

@@ -44,6 +44,10 @@ struct OutlineFit {
   double inlier_frac = 0.0;   // the smaller of the two edges'
   double outward_frac = 0.0;  // the larger of the two edges'
   double arc_rms_px = 0.0;    // the base arc's points about their parabola
+  // How far short of the apex the silhouette may end (sensor px along the axis): where it is narrower than about a
+  // pixel, 3 px + 1/tan of the edges' half-angle. The tip check lets the blob's tip stop that short of the fitted apex,
+  // and the segmenter lets a cone touch the image's edge only there (segmenter.h, border_px).
+  double tip_zone_px = 0.0;
 };
 
 // runs: the blob's pixels; peak_guess_px / base_guess_px: the line search's

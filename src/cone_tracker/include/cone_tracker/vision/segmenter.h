@@ -59,9 +59,11 @@ struct SegmenterConfig {
   // Gates (3.1.5.3).
   double min_area_px = 30.0;
   double max_area_px = 200000.0;
-  // A blob within this of the edge is rejected (cut by it). 1: the silhouette's mixed edge pixels may fail
-  // the colour test, so a cone cut by the edge can end one pixel short of it; a wider margin refused whole
-  // cones coming into view (cone_tracker README, "Cones at the image's edge").
+  // A blob within this of the edge is rejected (cut by it), unless only the tip zone of its fitted outline
+  // (OutlineFit::tip_zone_px, peak_refinement outline) is there: the outline's apex comes from the edges, not
+  // from the tip's last pixels. 1: the silhouette's mixed edge pixels may fail the colour test, so a cone cut by
+  // the edge can end one pixel short of it; a wider margin refused whole cones coming into view (cone_tracker
+  // README, "Cones at the image's edge").
   int border_px = 1;
   // A cone whose silhouette runs on past its base out of the image, over a collar no longer than
   // merge_band_gap_frac (cut_cone.h: its min_contrast), fails the border gate too; 0: no such test.
@@ -155,8 +157,8 @@ class Segmenter {
  private:
   bool Classify(const ImageView& image, SegmentationResult* result);
   // Line search, then the refinement; sets the undistorted points when the
-  // refinement computed them (returns true then).
-  bool Measure(const MaskView& mask, const CameraModel& camera, ConeDetection* det) const;
+  // refinement computed them (returns true then, and the outline's tip zone).
+  bool Measure(const MaskView& mask, const CameraModel& camera, ConeDetection* det, double* tip_zone_px) const;
 
   SegmenterConfig config_;
   ColorLut lut_;
