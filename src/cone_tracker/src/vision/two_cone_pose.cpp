@@ -101,26 +101,23 @@ double FuseGravity(const GravityPrior& g, const std::vector<Eigen::Vector3d>& mo
   return chi2;
 }
 
-// Layout cones other than a and b that the pose puts in plain view (rig_model::InPlainView) with no blob over them,
-// accepted or refused (a refused blob is a cone the gates turned down, not a miss).
+// Layout cones other than a and b that the pose puts in plain view with no blob over them, accepted or refused (a
+// refused blob is a cone the gates turned down, not a miss): rig_model::MissedInPlainView, the association's rule.
 int Misses(const pose_math::Pose& T_camera_cones, int a, int b, const std::vector<ConeModel>& cones,
            const CameraModel& cam, const std::vector<ConeDetection>& rejected) {
   const auto boxes =
       LayoutSilhouettes(LayoutSeenFrom(cones), cones.size(), pose_math::RotationFromQuat(T_camera_cones.q),
                         pose_math::Invert(T_camera_cones).t, cam, AssociationConfig().min_depth_m);
-  const std::vector<bool> plain = rig_model::InPlainView(boxes, cam.width_px, cam.height_px);
-  int misses = 0;
-  for (size_t k = 0; k < cones.size(); ++k) {
-    if (int(k) == a || int(k) == b || !plain[k]) continue;
-    const bool blob = std::any_of(rejected.begin(), rejected.end(), [&](const ConeDetection& d) {
+  std::vector<bool> seen(cones.size(), false);
+  seen[size_t(a)] = seen[size_t(b)] = true;
+  for (size_t k = 0; k < cones.size(); ++k)
+    for (const ConeDetection& d : rejected) {
       const Blob& o = d.blob;
-      return rig_model::ImageBox{double(o.bbox_x), double(o.bbox_y), double(o.bbox_x + o.bbox_w),
-                                 double(o.bbox_y + o.bbox_h)}
-          .Overlaps(*boxes[k]);
-    });
-    misses += blob ? 0 : 1;
-  }
-  return misses;
+      const rig_model::ImageBox blob{double(o.bbox_x), double(o.bbox_y), double(o.bbox_x + o.bbox_w),
+                                     double(o.bbox_y + o.bbox_h)};
+      seen[k] = seen[k] || (boxes[k] && blob.Overlaps(*boxes[k]));
+    }
+  return rig_model::MissedInPlainView(boxes, seen, cam.width_px, cam.height_px);
 }
 
 }  // namespace
