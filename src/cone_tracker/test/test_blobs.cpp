@@ -70,6 +70,21 @@ TEST(Blobs, RectangleProperties) {
   EXPECT_EQ(b.bbox_h, 4);
 }
 
+TEST(Blobs, BlobOfRunsSumsTheHullsOfItsPieces) {
+  // Two 10x10 squares a band apart: the hull of each, not of both.
+  std::vector<cone_tracker::Run> runs;
+  for (int y = 0; y < 10; ++y) runs.push_back({y, 0, 9}), runs.push_back({y + 15, 0, 9});
+  const Blob b = BlobOfRuns(runs);
+  EXPECT_EQ(b.fragments, 2);
+  EXPECT_DOUBLE_EQ(b.hull_area, 200.0);
+  EXPECT_DOUBLE_EQ(b.area, 200.0);
+  EXPECT_DOUBLE_EQ(b.solidity, 1.0);
+  EXPECT_EQ(b.bbox_h, 25);
+  // Touching diagonally: one piece (8-connected).
+  const Blob c = BlobOfRuns({{0, 0, 4}, {1, 5, 9}});
+  EXPECT_EQ(c.fragments, 1);
+}
+
 TEST(Blobs, DiagonalNeighboursAreOneBlobAndRoiClips) {
   Mask m(10, 10);
   m.Set(2, 2), m.Set(3, 3), m.Set(4, 4), m.Set(8, 1), m.Set(0, 9);

@@ -52,6 +52,16 @@ Timings TimeFrames(cone_tracker::Segmenter* seg, const std::vector<cone_tracker:
   return t;
 }
 
+// The frames segmented with one feature off (`config`): the frame's median wall and CPU time without `what`.
+void PrintWithout(const char* what, const char* key, const cone_tracker::SegmenterConfig& config,
+                  const std::vector<cone_tracker::SimFrame>& frames, const cone_tracker::CameraModel& cam) {
+  cone_tracker::Segmenter seg{config};
+  const Timings t = TimeFrames(&seg, frames, cam);
+  std::printf("without %s: frame median %.3f ms, CPU %.3f ms\n", what, Median(t.total_ms), Median(t.cpu_ms));
+  std::printf("BENCH cone_tracker.frame_median_%s %.3f ms\n", key, Median(t.total_ms));
+  std::printf("BENCH cone_tracker.frame_cpu_median_%s %.3f ms\n", key, Median(t.cpu_ms));
+}
+
 // Peak and base RMS against the truth over the frames' cones (each truth cone
 // to the detection whose peak is nearest, within 15 px).
 void PrintAccuracy(const char* name, cone_tracker::Segmenter* seg, const std::vector<cone_tracker::SimFrame>& frames,
@@ -143,15 +153,12 @@ int main() {
   std::printf("BENCH cone_tracker.stage_color_roi_median %.3f ms\n", Median(classify));
   std::printf("BENCH cone_tracker.stage_blobs_median %.3f ms\n", Median(blobs));
   std::printf("BENCH cone_tracker.stage_measure_median %.3f ms\n", Median(measure));
-  // The cost of band merging (on by default): the same frames without it.
-  SegmenterConfig nb;
-  nb.merge_band_gap_frac = 0.0;
-  Segmenter nbseg{nb};
-  const Timings no_band = TimeFrames(&nbseg, frames, cam);
-  std::printf("without band merging: frame median %.3f ms, CPU %.3f ms\n", Median(no_band.total_ms),
-              Median(no_band.cpu_ms));
-  std::printf("BENCH cone_tracker.frame_median_no_band_merge %.3f ms\n", Median(no_band.total_ms));
-  std::printf("BENCH cone_tracker.frame_cpu_median_no_band_merge %.3f ms\n", Median(no_band.cpu_ms));
+  // What band merging and the merged-tip split (both on by default) cost: the same frames without each.
+  SegmenterConfig no_band, no_split;
+  no_band.merge_band_gap_frac = 0.0;
+  no_split.split_merged_tips = false;
+  PrintWithout("band merging", "no_band_merge", no_band, frames, cam);
+  PrintWithout("the merged-tip split", "no_tip_split", no_split, frames, cam);
   // The thesis's template refinement (3.1.5.4) on the same frames, for comparison.
   SegmenterConfig tc;
   tc.peak_refinement = int(PeakRefinement::kTemplates);

@@ -89,6 +89,31 @@ void ComputeProperties(Blob* b) {
   b->bbox_x = x0, b->bbox_y = y0, b->bbox_w = x1 - x0 + 1, b->bbox_h = y1 - y0 + 1;
 }
 
+Blob BlobOfRuns(std::vector<Run> runs) {
+  Blob b;
+  std::sort(runs.begin(), runs.end(), [](const Run& a, const Run& c) { return a.y != c.y ? a.y < c.y : a.x0 < c.x0; });
+  std::vector<int> parent(runs.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  size_t prev = 0;  // the first run of the row above the current one
+  for (size_t i = 0; i < runs.size(); ++i) {
+    while (prev < i && runs[prev].y < runs[i].y - 1) ++prev;
+    for (size_t j = prev; j < i && runs[j].y < runs[i].y; ++j)
+      if (runs[j].x1 >= runs[i].x0 - 1 && runs[j].x0 <= runs[i].x1 + 1) {
+        const int a = Find(parent, int(i)), c = Find(parent, int(j));
+        if (a != c) parent[std::max(a, c)] = std::min(a, c);
+      }
+  }
+  std::vector<std::vector<Run>> pieces(runs.size());
+  for (size_t i = 0; i < runs.size(); ++i) pieces[size_t(Find(parent, int(i)))].push_back(runs[i]);
+  b.fragments = 0;
+  for (const std::vector<Run>& piece : pieces)
+    if (!piece.empty()) b.hull_area += HullArea(piece), ++b.fragments;
+  for (const Run& r : runs) b.m.Add(r);
+  b.runs = std::move(runs);
+  if (b.m.n > 0) ComputeProperties(&b);
+  return b;
+}
+
 std::vector<Blob> FindBlobs(const MaskView& mask, int x0, int y0, int x1, int y1, int min_area_px) {
   x0 = std::max(0, x0), y0 = std::max(0, y0);
   x1 = std::min(mask.width, x1), y1 = std::min(mask.height, y1);

@@ -196,6 +196,7 @@ OutlineFit FitConeOutline(const std::vector<Run>& runs, const Eigen::Vector2d& p
   out.tip_zone_px = 3.0 + 1.0 / std::max(tan_half, 0.02);
   const double along = ((apex - peak0).dot(dir0) - tip) / raw_px,
                lateral = std::abs((apex - peak0).dot(Eigen::Vector2d(dir0.y(), -dir0.x()))) / raw_px;
+  out.left_line = l1, out.right_line = l2, out.apex_undist_px = apex, out.tip_short_px = -along;
   if (along > 1.5 || along < -out.tip_zone_px ||
       lateral > 3.0 + config.max_apex_gap_frac * h0 / raw_px)
     return out.why = "apex does not fit the tip", out;
@@ -251,7 +252,7 @@ OutlineFit FitConeOutline(const std::vector<Run>& runs, const Eigen::Vector2d& p
   if (!DistortPixels(camera, &raw)) return out.why = "distortion failed", out;
   out.peak_undist_px = apex, out.base_undist_px = base;
   out.peak_px = raw[0], out.base_px = raw[1];
-  out.left_line = l1, out.right_line = l2, out.axis_line = axis;
+  out.axis_line = axis;
   out.ok = true;
   return out;
 }

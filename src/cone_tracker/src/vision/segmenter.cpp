@@ -98,6 +98,16 @@ bool OnlyTipAtEdge(const std::vector<Run>& runs, int width, int height, int bp, 
 
 }  // namespace
 
+uint32_t RegionGates(const Blob& d, const SegmenterConfig& c) {
+  uint32_t failed = 0;
+  if (d.area < c.min_area_px || d.area > c.max_area_px) failed |= kGateArea;
+  if (d.solidity < c.min_solidity || d.solidity > c.max_solidity) failed |= kGateSolidity;
+  if (d.axis_ratio < c.min_axis_ratio || d.axis_ratio > c.max_axis_ratio) failed |= kGateAxisRatio;
+  if (std::abs(std::cos(d.orientation_rad)) > std::sin(c.max_tilt_deg * M_PI / 180.0))
+    failed |= kGateTilt;  // |angle from vertical| > max_tilt
+  return failed;
+}
+
 std::string SegmenterConfig::Validate() const {
   const std::string hsi_error = hsi.Validate();
   if (!hsi_error.empty()) return hsi_error;
@@ -236,8 +246,8 @@ bool Segmenter::IsBand(const Eigen::Vector2d& from, const Eigen::Vector2d& to, d
   return total > 0 && band >= 0.6 * total;
 }
 
-bool Segmenter::Measure(const MaskView& mask, const CameraModel& camera, ConeDetection* det,
-                        double* tip_zone_px) const {
+bool Segmenter::Measure(const MaskView& mask, const CameraModel& camera, ConeDetection* det, double* tip_zone_px,
+                        OutlineFit* outline) const {
   const Blob& b = det->blob;
   const Eigen::Vector2d axis(std::cos(b.orientation_rad), std::sin(b.orientation_rad));
   // Extent of the blob along its axis; a merged blob's line search may cross
@@ -275,6 +285,7 @@ bool Segmenter::Measure(const MaskView& mask, const CameraModel& camera, ConeDet
   switch (config_.refinement()) {
     case PeakRefinement::kOutline: {
       const OutlineFit fit = FitConeOutline(b.runs, search_peak, det->base_px, camera, config_.outline);
+      if (outline) *outline = fit;
       if (fit.ok && OrangeBelowBase(mask, fit.peak_px, fit.base_px)) {
         // The tip of a collared cone whose body did not merge (it is hidden,
         // or merged with something orange and rejected): its collar's rim
@@ -323,6 +334,45 @@ double MsSince(std::chrono::steady_clock::time_point* t) {
 }
 }  // namespace
 
+ConeDetection Segmenter::Judge(Blob blob, const MaskView& mask, const CameraModel& camera, OutlineFit* outline) const {
+  const SegmenterConfig& c = config_;
+  ConeDetection det;
+  det.blob = std::move(blob);
+  const Blob& d = det.blob;
+  det.failed_gates = RegionGates(d, c);
+  const int bp = c.border_px, width = mask.width, height = mask.height;
+  const bool at_border =
+      d.bbox_x <= bp || d.bbox_y <= bp || d.bbox_x + d.bbox_w >= width - bp || d.bbox_y + d.bbox_h >= height - bp;
+  double tip_zone_px = 0.0;
+  const bool undistorted = det.failed_gates == 0 && Measure(mask, camera, &det, &tip_zone_px, outline);
+  // Part of the cone may be outside the image; not when only the tip zone of its outline is on the edge.
+  if (at_border && !(undistorted && OnlyTipAtEdge(d.runs, width, height, bp, det.peak_px, det.base_px, tip_zone_px)))
+    det.failed_gates |= kGateBorder;
+  if (det.failed_gates == 0 && !CheckConeShape(d.runs, det.peak_px, det.base_px, c.shape).ok)
+    det.failed_gates |= kGateShape;
+  if (det.failed_gates == 0 &&
+      SilhouetteRunsOutOfImage(RgbView{frame_rgb_, frame_w_, frame_h_, frame_step_}, det.peak_px, det.base_px,
+                               0.5 * WidthAcross(d.runs, det.peak_px, (det.base_px - det.peak_px).normalized()),
+                               c.cut_cone_contrast, c.merge_band_gap_frac))
+    det.failed_gates |= kGateBorder;  // the top of a cone whose collar runs out of the image
+  if (undistorted) {
+    // The mid-height point on the axis; it is not a measured point.
+    det.mid_undist_px = 0.5 * (det.peak_undist_px + det.base_undist_px);
+    std::vector<Eigen::Vector2d> mid = {det.mid_undist_px};
+    if (DistortPixels(camera, &mid))
+      det.mid_px = mid[0];
+    else
+      det.failed_gates |= kGateUndistort;
+  } else if (det.failed_gates == 0) {
+    std::vector<Eigen::Vector2d> pts = {det.peak_px, det.mid_px, det.base_px};
+    if (UndistortPixels(camera, &pts))
+      det.peak_undist_px = pts[0], det.mid_undist_px = pts[1], det.base_undist_px = pts[2];
+    else
+      det.failed_gates |= kGateUndistort;
+  }
+  return det;
+}
+
 SegmentationResult Segmenter::Process(const ImageView& image, const CameraModel& camera) {
   SegmentationResult result;
   auto t = std::chrono::steady_clock::now();
@@ -339,47 +389,11 @@ SegmentationResult Segmenter::Process(const ImageView& image, const CameraModel&
   MergeAlongAxes(&blobs, config_.merge_lateral_frac, config_.merge_gap_frac, config_.max_tilt_deg * M_PI / 180.0, band,
                  config_.merge_band_gap_frac);
   result.blobs_ms = MsSince(&t);
-  const SegmenterConfig& c = config_;
-  for (Blob& b : blobs) {
-    ConeDetection det;
-    det.blob = std::move(b);
-    const Blob& d = det.blob;
-    if (d.area < c.min_area_px || d.area > c.max_area_px) det.failed_gates |= kGateArea;
-    const int bp = c.border_px;
-    const bool at_border = d.bbox_x <= bp || d.bbox_y <= bp || d.bbox_x + d.bbox_w >= image.width - bp ||
-                           d.bbox_y + d.bbox_h >= image.height - bp;
-    if (d.solidity < c.min_solidity || d.solidity > c.max_solidity) det.failed_gates |= kGateSolidity;
-    if (d.axis_ratio < c.min_axis_ratio || d.axis_ratio > c.max_axis_ratio) det.failed_gates |= kGateAxisRatio;
-    if (std::abs(std::cos(d.orientation_rad)) > std::sin(c.max_tilt_deg * M_PI / 180.0))
-      det.failed_gates |= kGateTilt;  // |angle from vertical| > max_tilt
-    double tip_zone_px = 0.0;
-    const bool undistorted = det.failed_gates == 0 && Measure(mask, camera, &det, &tip_zone_px);
-    // Part of the cone may be outside the image; not when only the tip zone of its outline is on the edge.
-    if (at_border && !(undistorted && OnlyTipAtEdge(d.runs, image.width, image.height, bp, det.peak_px, det.base_px,
-                                                    tip_zone_px)))
-      det.failed_gates |= kGateBorder;
-    if (det.failed_gates == 0 && !CheckConeShape(d.runs, det.peak_px, det.base_px, c.shape).ok)
-      det.failed_gates |= kGateShape;
-    if (det.failed_gates == 0 &&
-        SilhouetteRunsOutOfImage(RgbView{frame_rgb_, frame_w_, frame_h_, frame_step_}, det.peak_px, det.base_px,
-                                 0.5 * WidthAcross(d.runs, det.peak_px, (det.base_px - det.peak_px).normalized()),
-                                 c.cut_cone_contrast, c.merge_band_gap_frac))
-      det.failed_gates |= kGateBorder;  // the top of a cone whose collar runs out of the image
-    if (undistorted) {
-      // The mid-height point on the axis; it is not a measured point.
-      det.mid_undist_px = 0.5 * (det.peak_undist_px + det.base_undist_px);
-      std::vector<Eigen::Vector2d> mid = {det.mid_undist_px};
-      if (DistortPixels(camera, &mid))
-        det.mid_px = mid[0];
-      else
-        det.failed_gates |= kGateUndistort;
-    } else if (det.failed_gates == 0) {
-      std::vector<Eigen::Vector2d> pts = {det.peak_px, det.mid_px, det.base_px};
-      if (UndistortPixels(camera, &pts))
-        det.peak_undist_px = pts[0], det.mid_undist_px = pts[1], det.base_undist_px = pts[2];
-      else
-        det.failed_gates |= kGateUndistort;
-    }
+  std::vector<ConeDetection> dets(blobs.size());
+  std::vector<OutlineFit> fits(blobs.size());
+  for (size_t i = 0; i < blobs.size(); ++i) dets[i] = Judge(std::move(blobs[i]), mask, camera, &fits[i]);
+  SplitMergedTips(&dets, fits, mask, camera);
+  for (ConeDetection& det : dets) {
     det.blob.runs.clear();
     det.blob.runs.shrink_to_fit();
     (det.accepted() ? result.cones : result.rejected).push_back(std::move(det));

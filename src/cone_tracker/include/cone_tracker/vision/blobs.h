@@ -52,6 +52,9 @@ std::vector<Blob> FindBlobs(const MaskView& mask, int x0, int y0, int x1, int y1
 void ComputeProperties(Blob* blob);
 // Convex hull area of a set of runs, using pixel corners.
 double HullArea(const std::vector<Run>& runs);
+// A blob of these runs with its properties: hull_area and fragments from its 8-connected pieces, as if they had
+// been merged (MergeAlongAxes). For blobs whose pixels change hands after merging (merged_tip.h).
+Blob BlobOfRuns(std::vector<Run> runs);
 // Extent across the axis (unit; max - min of the perpendicular coordinate, + 1 px) of the run ends whose
 // along-axis coordinate from origin lies in [t_lo, t_hi]; 0 when none does.
 double WidthAcross(const std::vector<Run>& runs, const Eigen::Vector2d& origin, const Eigen::Vector2d& axis,

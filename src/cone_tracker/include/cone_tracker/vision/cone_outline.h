@@ -38,7 +38,8 @@ struct OutlineFit {
   std::string why;                                                                       // when !ok: which check failed
   Eigen::Vector2d peak_px = Eigen::Vector2d::Zero(), base_px = Eigen::Vector2d::Zero();  // raw pixels
   Eigen::Vector2d peak_undist_px = Eigen::Vector2d::Zero(), base_undist_px = Eigen::Vector2d::Zero();
-  Eigen::Vector3d left_line = Eigen::Vector3d::Zero(), right_line = Eigen::Vector3d::Zero();  // undistorted px
+  // Undistorted px, positive inside the silhouette; set with apex_undist_px (below).
+  Eigen::Vector3d left_line = Eigen::Vector3d::Zero(), right_line = Eigen::Vector3d::Zero();
   Eigen::Vector3d axis_line = Eigen::Vector3d::Zero();
   double edge_rms_px = 0.0;
   double inlier_frac = 0.0;   // the smaller of the two edges'
@@ -48,6 +49,11 @@ struct OutlineFit {
   // pixel, 3 px + 1/tan of the edges' half-angle. The tip check lets the blob's tip stop that short of the fitted apex,
   // and the segmenter lets a cone touch the image's edge only there (segmenter.h, border_px).
   double tip_zone_px = 0.0;
+  // Set once the two edges fit and meet, also when a later check fails: the apex (undistorted px), and how far short
+  // of it the blob's tip stops (sensor px along the axis; negative past it). The tip check wants it within
+  // [-1.5, tip_zone_px]; a blob that stops short by more may have its tip in another blob (merged_tip.h).
+  Eigen::Vector2d apex_undist_px = Eigen::Vector2d::Zero();
+  double tip_short_px = 0.0;
 };
 
 // runs: the blob's pixels; peak_guess_px / base_guess_px: the line search's

@@ -18,6 +18,7 @@
 #include "cone_tracker/vision/cone_shape.h"
 #include "cone_tracker/vision/cone_templates.h"
 #include "cone_tracker/vision/cut_cone.h"
+#include "cone_tracker/vision/merged_tip.h"
 
 namespace cone_tracker {
 
@@ -86,6 +87,9 @@ struct SegmenterConfig {
   // overlapping in the image, a cone partly hidden) is rejected with
   // kGateOutline rather than measured wrongly. Off: it keeps the line search.
   bool reject_bad_outline = true;
+  // With kOutline: a near cone's tip seen in front of a farther cone of the same colour, and merged into its blob,
+  // goes back to the near cone (merged_tip.h). Off: both blobs fail the outline gate.
+  bool split_merged_tips = true;
   // The silhouette must be a cone's (cone_shape.h): kGateShape otherwise.
   ConeShapeConfig shape;
   double template_search_px = 4.0;  // kTemplates: apex offsets tried, +- this around the line search's
@@ -105,6 +109,9 @@ enum GateBits : uint32_t {
   kGateOutline = 1u << 7,  // the outline is not one cone's (OutlineConfig)
   kGateShape = 1u << 8,    // not a cone's silhouette: no taper, crooked edges or holes (cone_shape.h)
 };
+
+// The gates on a blob's region properties alone (3.1.5.3): area, solidity, axis ratio, tilt.
+uint32_t RegionGates(const Blob& blob, const SegmenterConfig& config);
 
 // Names of the set bits ("area", "border", ...; an unknown bit as "bitN").
 std::vector<std::string> SegmentationGateNames(uint32_t bits);
@@ -158,7 +165,15 @@ class Segmenter {
   bool Classify(const ImageView& image, SegmentationResult* result);
   // Line search, then the refinement; sets the undistorted points when the
   // refinement computed them (returns true then, and the outline's tip zone).
-  bool Measure(const MaskView& mask, const CameraModel& camera, ConeDetection* det, double* tip_zone_px) const;
+  // outline: the outline fit, when the refinement ran it.
+  bool Measure(const MaskView& mask, const CameraModel& camera, ConeDetection* det, double* tip_zone_px,
+               OutlineFit* outline = nullptr) const;
+  // Every gate on one blob, and its points (3.1.5.3-3.1.5.4, 3.1.2); the blob's runs are kept. outline: as Measure's.
+  ConeDetection Judge(Blob blob, const MaskView& mask, const CameraModel& camera, OutlineFit* outline = nullptr) const;
+  // A near cone's tip merged into a farther cone's blob goes back to the near cone's (merged_tip.h); the two
+  // detections are judged again. fits: each detection's outline fit (Judge's).
+  void SplitMergedTips(std::vector<ConeDetection>* dets, const std::vector<OutlineFit>& fits, const MaskView& mask,
+                       const CameraModel& camera) const;
 
   SegmenterConfig config_;
   ColorLut lut_;

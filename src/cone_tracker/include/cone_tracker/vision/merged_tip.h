@@ -1,0 +1,41 @@
+// A near cone's tip seen in front of a farther cone of the same colour. The tip and the far cone's body are one
+// 8-connected patch of orange, so the tip joins the far cone's blob: the near cone's blob ends at its first band,
+// short of its apex, and fails the outline's tip check, and the far one, with a tip sticking out of it, fails too
+// (rig_sim's look_away seed 52 after its outage: two cones one behind the other, nothing measured for ten frames).
+// The near cone's two edges still fit, and say where its tip is: between them, from the blob's top to the apex.
+// ROS-free.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cone_tracker/pose/pnp.h"
+#include "cone_tracker/vision/blobs.h"
+#include "cone_tracker/vision/cone_outline.h"
+
+namespace cone_tracker {
+
+struct TipPiece {
+  std::vector<Run> tip;   // the other blob's pixels inside the cone's edges, toward its apex (raw px)
+  std::vector<Run> rest;  // the other blob's remaining pixels
+  int rows = 0;           // rows of `tip`
+  // Rows where the tip ends on one of the edge lines against the background (the other blob's run ends there, inside
+  // the image, and its outer pixel boundary is within edge_px of the line); the larger count of the two sides. A tip in front of a
+  // cone's body shows at least one of its edges over its length; orange that only fills the wedge does not.
+  int edge_rows = 0;
+  Eigen::Vector2d base_end_px = Eigen::Vector2d::Zero();  // the tip's pixel nearest the near cone's base (raw)
+};
+
+// The pixels of `other` (raw px) whose centres lie inside both edge lines of `fit` (to half a pixel) and along the
+// axis from the apex no farther than top_t_px (undistorted px): the part of the near cone's silhouette above its
+// blob's top. axis_dir: unit, undistorted, from the apex toward the base. fit's lines and apex must be set
+// (OutlineFit::apex_undist_px). width_px: the image's (a run ending on its edge ends on no background).
+TipPiece FindTipIn(const std::vector<Run>& other, const OutlineFit& fit, const Eigen::Vector2d& axis_dir,
+                   double top_t_px, const CameraModel& camera, double edge_px, int width_px);
+
+// Whether the mask has cone pixels 1.5-4 px past the apex (raw px) along the axis, `down` pointing from the apex
+// toward the base, or a pixel either side of it: the tip's end is not seen against the background.
+bool OrangePastApex(const MaskView& mask, const Eigen::Vector2d& apex_px, const Eigen::Vector2d& down);
+
+}  // namespace cone_tracker
