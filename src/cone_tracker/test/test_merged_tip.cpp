@@ -91,14 +91,16 @@ TEST(MergedTip, FindTipInKeepsThePixelsBetweenTheEdges) {
   ASSERT_EQ(p.rows, 19);
   EXPECT_EQ(p.edge_rows, 19);  // every row ends on the left edge, against the background
   for (const cone_tracker::Run& r : p.tip) {
-    EXPECT_LE(r.x1, 50.0 + 0.25 * r.y + 0.5) << "row " << r.y;  // stops at the right edge, half a pixel out at most
+    EXPECT_LE(r.x1, 50.0 + 0.25 * r.y) << "row " << r.y;  // pixel centres inside the right edge
     EXPECT_GE(r.x1, 50.0 + 0.25 * r.y - 1.0) << "row " << r.y;
   }
   int area = 0, rest_area = 0, all = 0;
   for (const cone_tracker::Run& r : p.tip) area += r.x1 - r.x0 + 1;
   for (const cone_tracker::Run& r : p.rest) rest_area += r.x1 - r.x0 + 1;
   for (const cone_tracker::Run& r : other) all += r.x1 - r.x0 + 1;
-  EXPECT_EQ(area + rest_area, all);
+  // The pixels within half a pixel outside the right edge go to neither: one a row at most (the edge is this steep).
+  EXPECT_LE(area + rest_area, all);
+  EXPECT_GE(area + rest_area, all - 19);
   // The same pixels with orange on both sides of the wedge: no edge is seen, so no tip.
   std::vector<cone_tracker::Run> wide;
   for (int y = 2; y <= 20; ++y) wide.push_back({y, 20, 80});

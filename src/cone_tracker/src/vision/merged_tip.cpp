@@ -76,26 +76,30 @@ TipPiece FindTipIn(const std::vector<Run>& other, const OutlineFit& fit, const E
     const Eigen::Vector2d left_end = pts[k], right_end = pts[k + 1];
     k += 2;
     const int x0 = std::max(r.x0, bx0), x1 = std::min(r.x1, bx1);
-    int tip0 = -1, tip1 = -1;  // the inside pixels of this run: one interval (the wedge is convex)
+    // The inside pixels of this run (one interval: the wedge is convex), and around them those within half a pixel
+    // outside an edge: the tip's mixed edge pixels, which go to neither blob (in the tip they would push its edge
+    // outward, and in the far cone they would stick out of its outline).
+    int tip0 = -1, tip1 = -1, claim0 = -1, claim1 = -1;
     for (int x = x0; x <= x1; ++x, ++k) {
       const Eigen::Vector2d& p = pts[k];
-      const double t = (p - apex).dot(d);
-      if (Distance(fit.left_line, p) < 0.0 || Distance(fit.right_line, p) < 0.0 || t < 0.0 || t > top_t) continue;
+      const double t = (p - apex).dot(d), in = std::min(Distance(fit.left_line, p), Distance(fit.right_line, p));
+      if (in < -0.5 || t < -0.5 || t > top_t) continue;
+      if (claim0 < 0) claim0 = x;
+      claim1 = x;
+      if (in < 0.0 || t < 0.0) continue;
       if (tip0 < 0) tip0 = x;
       tip1 = x;
       if (t > base_t) base_t = t, out.base_end_px = Eigen::Vector2d(x, r.y);
     }
-    if (tip0 < 0) {
-      out.rest.push_back(r);
-      continue;
-    }
+    if (claim0 > r.x0) out.rest.push_back({r.y, r.x0, claim0 - 1});
+    if (claim0 < 0) out.rest.push_back(r);
+    else if (claim1 < r.x1) out.rest.push_back({r.y, claim1 + 1, r.x1});
+    if (tip0 < 0) continue;
     out.tip.push_back({r.y, tip0, tip1});
-    if (tip0 > r.x0) out.rest.push_back({r.y, r.x0, tip0 - 1});
-    if (tip1 < r.x1) out.rest.push_back({r.y, tip1 + 1, r.x1});
     auto& e = row_edges[r.y];
-    e.first = e.first || (tip0 == r.x0 && r.x0 > 0 && std::abs(Distance(fit.left_line, left_end)) <= edge_px);
+    e.first = e.first || (claim0 == r.x0 && r.x0 > 0 && std::abs(Distance(fit.left_line, left_end)) <= edge_px);
     e.second =
-        e.second || (tip1 == r.x1 && r.x1 < width_px - 1 && std::abs(Distance(fit.right_line, right_end)) <= edge_px);
+        e.second || (claim1 == r.x1 && r.x1 < width_px - 1 && std::abs(Distance(fit.right_line, right_end)) <= edge_px);
   }
   int left = 0, right = 0;
   for (const auto& [y, e] : row_edges) left += e.first, right += e.second;

@@ -18,7 +18,7 @@ namespace cone_tracker {
 
 struct TipPiece {
   std::vector<Run> tip;   // the other blob's pixels inside the cone's edges, toward its apex (raw px)
-  std::vector<Run> rest;  // the other blob's remaining pixels
+  std::vector<Run> rest;  // the other blob's pixels outside the cone (its mixed edge pixels are in neither)
   int rows = 0;           // rows of `tip`
   // Rows where the tip ends on one of the edge lines against the background (the other blob's run ends there, inside
   // the image, and its outer pixel boundary is within edge_px of the line); the larger count of the two sides. A tip in front of a
@@ -27,9 +27,9 @@ struct TipPiece {
   Eigen::Vector2d base_end_px = Eigen::Vector2d::Zero();  // the tip's pixel nearest the near cone's base (raw)
 };
 
-// The pixels of `other` (raw px) whose centres lie inside both edge lines of `fit` (to half a pixel) and along the
-// axis from the apex no farther than top_t_px (undistorted px): the part of the near cone's silhouette above its
-// blob's top. axis_dir: unit, undistorted, from the apex toward the base. fit's lines and apex must be set
+// The pixels of `other` (raw px) whose centres lie inside both edge lines of `fit` and along the axis between the apex
+// and top_t_px (undistorted px): the part of the near cone's silhouette above its blob's top. Those within half a
+// pixel outside an edge or the apex go to neither `tip` nor `rest`. axis_dir: unit, undistorted, from the apex toward the base. fit's lines and apex must be set
 // (OutlineFit::apex_undist_px). width_px: the image's (a run ending on its edge ends on no background).
 TipPiece FindTipIn(const std::vector<Run>& other, const OutlineFit& fit, const Eigen::Vector2d& axis_dir,
                    double top_t_px, const CameraModel& camera, double edge_px, int width_px);
