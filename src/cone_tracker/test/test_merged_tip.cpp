@@ -65,7 +65,9 @@ TEST(MergedTip, NearConesTipInFrontOfAFarConeGoesBackToIt) {
           bool also_off = false;  // accepted without the split too, with the same points
           for (const ConeDetection& o : r_off.cones)
             also_off = also_off || ((o.peak_px - d.peak_px).norm() < 1e-9 && (o.base_px - d.base_px).norm() < 1e-9);
-          if (!also_off) EXPECT_LT(Off(d, f), 1.5) << "near " << near_m << " dz " << dz_m << " offset " << offset_m;
+          if (!also_off) {
+            EXPECT_LT(Off(d, f), 1.5) << "near " << near_m << " dz " << dz_m << " offset " << offset_m;
+          }
         }
         std::printf("near %.1f m, eye %.2f m high, offset %.2f m: accepted %zu -> %zu, near cone %d -> %d, far %d\n",
                     near_m, eye_z, offset_m, r_off.cones.size(), r_on.cones.size(), int(near_off), int(near_on),
@@ -87,7 +89,13 @@ TEST(MergedTip, FindTipInKeepsThePixelsBetweenTheEdges) {
   std::vector<cone_tracker::Run> other;
   for (int y = 2; y <= 20; ++y) other.push_back({y, int(std::ceil(50.0 - 0.25 * y)), 80});
   CameraModel pinhole;  // no lens: raw = undistorted
-  const TipPiece p = FindTipIn(other, fit, Eigen::Vector2d(0, 1), 20.0, pinhole, 1.0, 100);
+  // The wedge from the apex 20 px down the axis, in a 100-px-wide image.
+  const auto find = [&](const std::vector<cone_tracker::Run>& runs, const OutlineFit& f) {
+    TipWedge wedge;
+    EXPECT_TRUE(MakeTipWedge(f, Eigen::Vector2d(0, 1), 20.0, pinhole, &wedge));
+    return FindTipIn(runs, wedge, pinhole, 1.0, 100);
+  };
+  const TipPiece p = find(other, fit);
   ASSERT_EQ(p.rows, 19);
   EXPECT_EQ(p.edge_rows, 19);  // every row ends on the left edge, against the background
   for (const cone_tracker::Run& r : p.tip) {
@@ -104,7 +112,7 @@ TEST(MergedTip, FindTipInKeepsThePixelsBetweenTheEdges) {
   // The same pixels with orange on both sides of the wedge: no edge is seen, so no tip.
   std::vector<cone_tracker::Run> wide;
   for (int y = 2; y <= 20; ++y) wide.push_back({y, 20, 80});
-  EXPECT_EQ(FindTipIn(wide, fit, Eigen::Vector2d(0, 1), 20.0, pinhole, 1.0, 100).edge_rows, 0);
+  EXPECT_EQ(find(wide, fit).edge_rows, 0);
   // The image's edge is no background (cone (29).jpg of the road-cone photos: one cone cut by the left edge, its top
   // and its bottom apart across a band).
   OutlineFit cut;  // a blob cut by the image's left edge: its fitted left edge is the image's, x = -0.5
@@ -113,8 +121,8 @@ TEST(MergedTip, FindTipInKeepsThePixelsBetweenTheEdges) {
   cut.right_line = Eigen::Vector3d(-1, 0.25, -0.5);
   std::vector<cone_tracker::Run> from_edge;  // orange from the image's edge to x = 80
   for (int y = 2; y <= 20; ++y) from_edge.push_back({y, 0, 80});
-  EXPECT_EQ(FindTipIn(from_edge, cut, Eigen::Vector2d(0, 1), 20.0, pinhole, 1.0, 100).rows, 19);
-  EXPECT_EQ(FindTipIn(from_edge, cut, Eigen::Vector2d(0, 1), 20.0, pinhole, 1.0, 100).edge_rows, 0);
+  EXPECT_EQ(find(from_edge, cut).rows, 19);
+  EXPECT_EQ(find(from_edge, cut).edge_rows, 0);
 }
 
 }  // namespace

@@ -18,6 +18,24 @@ int Find(std::vector<int>& parent, int i) {
   while (parent[i] != i) i = parent[i] = parent[parent[i]];
   return i;
 }
+
+// 8-connectivity: joins every run with the runs of the row above that it touches (overlapping or diagonal). runs are
+// sorted by row, then by x0; parent starts as the identity.
+void UnionTouchingRuns(const std::vector<Run>& runs, std::vector<int>* parent) {
+  size_t above = 0, row = 0;  // the first runs of the row above and of the current row
+  for (size_t i = 0; i < runs.size(); ++i) {
+    if (runs[i].y != runs[row].y) {
+      above = runs[i].y == runs[row].y + 1 ? row : i;
+      row = i;
+    }
+    for (size_t j = above; j < row; ++j) {
+      if (runs[j].x1 < runs[i].x0 - 1) continue;
+      if (runs[j].x0 > runs[i].x1 + 1) break;
+      const int a = Find(*parent, int(i)), b = Find(*parent, int(j));
+      if (a != b) (*parent)[size_t(std::max(a, b))] = std::min(a, b);
+    }
+  }
+}
 }  // namespace
 
 double WidthAcross(const std::vector<Run>& runs, const Eigen::Vector2d& origin, const Eigen::Vector2d& axis,
@@ -89,20 +107,23 @@ void ComputeProperties(Blob* b) {
   b->bbox_x = x0, b->bbox_y = y0, b->bbox_w = x1 - x0 + 1, b->bbox_h = y1 - y0 + 1;
 }
 
+bool MaskHitAlong(const MaskView& mask, const Eigen::Vector2d& from, const Eigen::Vector2d& dir, double t_lo,
+                  double t_hi, double t_step, double side_px) {
+  const Eigen::Vector2d across(dir.y(), -dir.x());
+  for (double t = t_lo; t <= t_hi; t += t_step)
+    for (double s : {-side_px, 0.0, side_px}) {
+      const Eigen::Vector2d p = from + t * dir + s * across;
+      if (mask.At(int(std::lround(p.x())), int(std::lround(p.y())))) return true;
+    }
+  return false;
+}
+
 Blob BlobOfRuns(std::vector<Run> runs) {
   Blob b;
   std::sort(runs.begin(), runs.end(), [](const Run& a, const Run& c) { return a.y != c.y ? a.y < c.y : a.x0 < c.x0; });
   std::vector<int> parent(runs.size());
   std::iota(parent.begin(), parent.end(), 0);
-  size_t prev = 0;  // the first run of the row above the current one
-  for (size_t i = 0; i < runs.size(); ++i) {
-    while (prev < i && runs[prev].y < runs[i].y - 1) ++prev;
-    for (size_t j = prev; j < i && runs[j].y < runs[i].y; ++j)
-      if (runs[j].x1 >= runs[i].x0 - 1 && runs[j].x0 <= runs[i].x1 + 1) {
-        const int a = Find(parent, int(i)), c = Find(parent, int(j));
-        if (a != c) parent[std::max(a, c)] = std::min(a, c);
-      }
-  }
+  UnionTouchingRuns(runs, &parent);
   std::vector<std::vector<Run>> pieces(runs.size());
   for (size_t i = 0; i < runs.size(); ++i) pieces[size_t(Find(parent, int(i)))].push_back(runs[i]);
   b.fragments = 0;
@@ -118,11 +139,8 @@ std::vector<Blob> FindBlobs(const MaskView& mask, int x0, int y0, int x1, int y1
   x0 = std::max(0, x0), y0 = std::max(0, y0);
   x1 = std::min(mask.width, x1), y1 = std::min(mask.height, y1);
   std::vector<Run> runs;
-  std::vector<int> parent;
-  size_t prev_begin = 0, prev_end = 0;
   for (int y = y0; y < y1; ++y) {
     const uint8_t* row = mask.data + size_t(y) * mask.step;
-    const size_t cur_begin = runs.size();
     for (int x = x0; x < x1;) {
       if (!row[x]) {  // background: skip it eight pixels at a time
         uint64_t word = 0;
@@ -132,20 +150,12 @@ std::vector<Blob> FindBlobs(const MaskView& mask, int x0, int y0, int x1, int y1
       }
       const int start = x;
       while (x < x1 && row[x]) ++x;
-      const int id = int(runs.size());
       runs.push_back({y, start, x - 1});
-      parent.push_back(id);
-      // 8-connectivity: previous-row runs overlapping [start-1, x].
-      for (size_t j = prev_begin; j < prev_end; ++j) {
-        if (runs[j].x1 < start - 1) continue;
-        if (runs[j].x0 > x) break;
-        const int a = Find(parent, id), b = Find(parent, int(j));
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
-      }
     }
-    prev_begin = cur_begin, prev_end = runs.size();
-    if (y + 1 < y1 && prev_begin == prev_end) prev_begin = prev_end = runs.size();
   }
+  std::vector<int> parent(runs.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  UnionTouchingRuns(runs, &parent);
   std::vector<int> blob_of(runs.size(), -1);
   std::vector<Blob> blobs;
   for (size_t i = 0; i < runs.size(); ++i) {

@@ -24,32 +24,28 @@ Eigen::Vector2d Corner(const Eigen::Vector3d& line, const Eigen::Vector2d& apex,
 
 }  // namespace
 
-bool OrangePastApex(const MaskView& mask, const Eigen::Vector2d& apex_px, const Eigen::Vector2d& down) {
-  const Eigen::Vector2d across(down.y(), -down.x());
-  for (double t = 1.5; t <= 4.0; t += 0.5)
-    for (double s : {-1.0, 0.0, 1.0}) {
-      const Eigen::Vector2d p = apex_px - t * down + s * across;
-      if (mask.At(int(std::lround(p.x())), int(std::lround(p.y())))) return true;
-    }
-  return false;
-}
-
-TipPiece FindTipIn(const std::vector<Run>& other, const OutlineFit& fit, const Eigen::Vector2d& d, double top_t,
-                   const CameraModel& camera, double edge_px, int width_px) {
-  TipPiece out;
+bool MakeTipWedge(const OutlineFit& fit, const Eigen::Vector2d& d, double top_t, const CameraModel& camera,
+                  TipWedge* w) {
   const Eigen::Vector2d& apex = fit.apex_undist_px;
-  // The wedge's raw bounding box (the lens bends its sides a little: 2 px of margin).
   std::vector<Eigen::Vector2d> corners = {apex, Corner(fit.left_line, apex, d, top_t),
                                           Corner(fit.right_line, apex, d, top_t)};
-  if (!(top_t > 0.0) || !DistortPixels(camera, &corners)) {
-    out.rest = other;
-    return out;
-  }
+  if (!(top_t > 0.0) || !DistortPixels(camera, &corners)) return false;
   double x_lo = INFINITY, x_hi = -INFINITY, y_lo = INFINITY, y_hi = -INFINITY;
   for (const Eigen::Vector2d& c : corners)
     x_lo = std::min(x_lo, c.x()), x_hi = std::max(x_hi, c.x()), y_lo = std::min(y_lo, c.y()), y_hi = std::max(y_hi, c.y());
-  const int bx0 = int(std::floor(x_lo)) - 2, bx1 = int(std::ceil(x_hi)) + 2;
-  const int by0 = int(std::floor(y_lo)) - 2, by1 = int(std::ceil(y_hi)) + 2;
+  w->apex_undist_px = apex, w->axis_dir = d, w->left_line = fit.left_line, w->right_line = fit.right_line;
+  w->top_t_px = top_t;
+  w->x0 = int(std::floor(x_lo)) - 2, w->x1 = int(std::ceil(x_hi)) + 2;
+  w->y0 = int(std::floor(y_lo)) - 2, w->y1 = int(std::ceil(y_hi)) + 2;
+  return true;
+}
+
+TipPiece FindTipIn(const std::vector<Run>& other, const TipWedge& w, const CameraModel& camera, double edge_px,
+                   int width_px) {
+  TipPiece out;
+  const Eigen::Vector2d &apex = w.apex_undist_px, &d = w.axis_dir;
+  const int bx0 = w.x0, bx1 = w.x1, by0 = w.y0, by1 = w.y1;
+  const double top_t = w.top_t_px;
   // Per run crossing the box: its pixel centres there, and its two outer boundaries, undistorted in one call.
   std::vector<size_t> crossing;
   std::vector<Eigen::Vector2d> pts;
@@ -82,7 +78,7 @@ TipPiece FindTipIn(const std::vector<Run>& other, const OutlineFit& fit, const E
     int tip0 = -1, tip1 = -1, claim0 = -1, claim1 = -1;
     for (int x = x0; x <= x1; ++x, ++k) {
       const Eigen::Vector2d& p = pts[k];
-      const double t = (p - apex).dot(d), in = std::min(Distance(fit.left_line, p), Distance(fit.right_line, p));
+      const double t = (p - apex).dot(d), in = std::min(Distance(w.left_line, p), Distance(w.right_line, p));
       if (in < -0.5 || t < -0.5 || t > top_t) continue;
       if (claim0 < 0) claim0 = x;
       claim1 = x;
@@ -97,9 +93,9 @@ TipPiece FindTipIn(const std::vector<Run>& other, const OutlineFit& fit, const E
     if (tip0 < 0) continue;
     out.tip.push_back({r.y, tip0, tip1});
     auto& e = row_edges[r.y];
-    e.first = e.first || (claim0 == r.x0 && r.x0 > 0 && std::abs(Distance(fit.left_line, left_end)) <= edge_px);
+    e.first = e.first || (claim0 == r.x0 && r.x0 > 0 && std::abs(Distance(w.left_line, left_end)) <= edge_px);
     e.second =
-        e.second || (claim1 == r.x1 && r.x1 < width_px - 1 && std::abs(Distance(fit.right_line, right_end)) <= edge_px);
+        e.second || (claim1 == r.x1 && r.x1 < width_px - 1 && std::abs(Distance(w.right_line, right_end)) <= edge_px);
   }
   int left = 0, right = 0;
   for (const auto& [y, e] : row_edges) left += e.first, right += e.second;
@@ -136,14 +132,15 @@ void Segmenter::SplitMergedTips(std::vector<ConeDetection>* dets, const std::vec
     const Eigen::Vector2d d = (ends[1] - fit.apex_undist_px).normalized();
     const double top_t = (ends[0] - fit.apex_undist_px).dot(d);
     const Eigen::Vector2d down = (near.base_px - near.peak_px).normalized();
+    TipWedge wedge;
     std::vector<Eigen::Vector2d> apex = {fit.apex_undist_px};
-    if (!DistortPixels(camera, &apex)) continue;
-    const Eigen::Vector2d apex_raw = apex[0];
+    if (!MakeTipWedge(fit, d, top_t, camera, &wedge) || !DistortPixels(camera, &apex)) continue;
+    // Orange 1.5-4 px past the apex, on the axis or a pixel beside it: where the tip ends is not seen.
+    if (MaskHitAlong(mask, apex[0], -down, 1.5, 4.0, 0.5, 1.0)) continue;
     for (size_t j = 0; j < dets->size(); ++j) {
       if (j == i || emptied[j]) continue;
-      TipPiece piece =
-          FindTipIn((*dets)[j].blob.runs, fit, d, top_t, camera, config_.outline.outlier_px, mask.width);
-      if (piece.rows < 3 || 2 * piece.edge_rows < piece.rows || OrangePastApex(mask, apex_raw, down)) continue;
+      TipPiece piece = FindTipIn((*dets)[j].blob.runs, wedge, camera, config_.outline.outlier_px, mask.width);
+      if (piece.rows < 3 || 2 * piece.edge_rows < piece.rows) continue;
       const double half_width = 0.3 * WidthAcross(piece.tip, piece.base_end_px, down);
       if ((piece.base_end_px - near.peak_px).norm() >= 1.0 && !IsBand(near.peak_px, piece.base_end_px, half_width))
         continue;

@@ -70,13 +70,7 @@ bool OrangeBelowBase(const MaskView& mask, const Eigen::Vector2d& peak, const Ei
   const Eigen::Vector2d axis = base - peak;
   const double h = axis.norm();
   if (!(h > 0.0 && h < 1e5)) return false;
-  const Eigen::Vector2d d = axis / h, e(d.y(), -d.x());
-  for (double t = 3.0; t <= std::max(8.0, h); t += 1.0)
-    for (double s : {-2.0, 0.0, 2.0}) {
-      const Eigen::Vector2d p = base + t * d + s * e;
-      if (mask.At(int(std::lround(p.x())), int(std::lround(p.y())))) return true;
-    }
-  return false;
+  return MaskHitAlong(mask, base, axis / h, 3.0, std::max(8.0, h), 1.0, 2.0);
 }
 
 // Whether every pixel of the blob within bp of the image's edge lies within tip_zone_px (along the axis) of the

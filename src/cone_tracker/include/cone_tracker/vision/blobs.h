@@ -52,6 +52,10 @@ std::vector<Blob> FindBlobs(const MaskView& mask, int x0, int y0, int x1, int y1
 void ComputeProperties(Blob* blob);
 // Convex hull area of a set of runs, using pixel corners.
 double HullArea(const std::vector<Run>& runs);
+// Whether the mask has a cone pixel at from + t dir + s across, t from t_lo to t_hi in steps of t_step and s in
+// {-side_px, 0, side_px} (across: dir turned 90 degrees): orange on a line beyond a point.
+bool MaskHitAlong(const MaskView& mask, const Eigen::Vector2d& from, const Eigen::Vector2d& dir, double t_lo,
+                  double t_hi, double t_step, double side_px);
 // A blob of these runs with its properties: hull_area and fragments from its 8-connected pieces, as if they had
 // been merged (MergeAlongAxes). For blobs whose pixels change hands after merging (merged_tip.h).
 Blob BlobOfRuns(std::vector<Run> runs);

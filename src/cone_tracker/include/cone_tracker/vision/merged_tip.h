@@ -27,15 +27,23 @@ struct TipPiece {
   Eigen::Vector2d base_end_px = Eigen::Vector2d::Zero();  // the tip's pixel nearest the near cone's base (raw)
 };
 
-// The pixels of `other` (raw px) whose centres lie inside both edge lines of `fit` and along the axis between the apex
-// and top_t_px (undistorted px): the part of the near cone's silhouette above its blob's top. Those within half a
-// pixel outside an edge or the apex go to neither `tip` nor `rest`. axis_dir: unit, undistorted, from the apex toward the base. fit's lines and apex must be set
-// (OutlineFit::apex_undist_px). width_px: the image's (a run ending on its edge ends on no background).
-TipPiece FindTipIn(const std::vector<Run>& other, const OutlineFit& fit, const Eigen::Vector2d& axis_dir,
-                   double top_t_px, const CameraModel& camera, double edge_px, int width_px);
+// The part of a cone's silhouette above its blob's top: between the two edge lines of an outline fit (undistorted
+// px, positive inside), along the axis from the apex to top_t_px; with its raw bounding box (2 px of margin: the lens
+// bends its sides a little). Made once per blob, then searched in every other blob.
+struct TipWedge {
+  Eigen::Vector2d apex_undist_px = Eigen::Vector2d::Zero();
+  Eigen::Vector2d axis_dir = Eigen::Vector2d::Zero();  // unit, undistorted, from the apex toward the base
+  Eigen::Vector3d left_line = Eigen::Vector3d::Zero(), right_line = Eigen::Vector3d::Zero();
+  double top_t_px = 0.0;
+  int x0 = 0, x1 = -1, y0 = 0, y1 = -1;
+};
+// fit's lines and apex must be set (OutlineFit::apex_undist_px). False when top_t_px <= 0 or the lens model fails.
+bool MakeTipWedge(const OutlineFit& fit, const Eigen::Vector2d& axis_dir, double top_t_px, const CameraModel& camera,
+                  TipWedge* wedge);
 
-// Whether the mask has cone pixels 1.5-4 px past the apex (raw px) along the axis, `down` pointing from the apex
-// toward the base, or a pixel either side of it: the tip's end is not seen against the background.
-bool OrangePastApex(const MaskView& mask, const Eigen::Vector2d& apex_px, const Eigen::Vector2d& down);
+// The pixels of `other` (raw px) whose centres lie in the wedge. Those within half a pixel outside an edge or the apex
+// go to neither `tip` nor `rest`. width_px: the image's (a run ending on its edge ends on no background).
+TipPiece FindTipIn(const std::vector<Run>& other, const TipWedge& wedge, const CameraModel& camera, double edge_px,
+                   int width_px);
 
 }  // namespace cone_tracker
