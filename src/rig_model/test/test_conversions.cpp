@@ -137,5 +137,28 @@ TEST(Conversions, BadCameraInfoIsRefusedWithTheReason) {
   EXPECT_EQ(c.distortion_model, DistortionModel::kRationalPolynomial);
 }
 
+TEST(Conversions, ImageBoxesBecomeTheWholePixelsTheyTouch) {
+  // Pixel 10 spans 9.5-10.5: a box from 9.7 to 20.2 touches pixels 10-20.
+  sensor_msgs::RegionOfInterest roi = ToRoi({9.7, 30.0, 20.2, 40.6}, 512, 384, true);
+  EXPECT_EQ(roi.x_offset, 10u);
+  EXPECT_EQ(roi.width, 11u);
+  EXPECT_EQ(roi.y_offset, 30u);
+  EXPECT_EQ(roi.height, 12u);  // 30 .. 41
+  EXPECT_TRUE(roi.do_rectify);
+  const ImageBox b = FromRoi(roi);
+  EXPECT_DOUBLE_EQ(b.u_min, 9.5);
+  EXPECT_DOUBLE_EQ(b.u_max, 20.5);
+  EXPECT_DOUBLE_EQ(b.v_min, 29.5);
+  EXPECT_DOUBLE_EQ(b.v_max, 41.5);
+  // Clipped to the image; wholly outside or not finite: width 0.
+  roi = ToRoi({-30.0, -5.0, 600.0, 10.0}, 512, 384, false);
+  EXPECT_EQ(roi.x_offset, 0u);
+  EXPECT_EQ(roi.width, 512u);
+  EXPECT_EQ(roi.y_offset, 0u);
+  EXPECT_EQ(roi.height, 11u);
+  EXPECT_EQ(ToRoi({-30.0, 5.0, -10.0, 10.0}, 512, 384, false).width, 0u);
+  EXPECT_EQ(ToRoi({NAN, 5.0, 10.0, 10.0}, 512, 384, false).width, 0u);
+}
+
 }  // namespace
 }  // namespace rig_model

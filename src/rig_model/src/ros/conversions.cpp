@@ -1,5 +1,6 @@
 #include "rig_model/ros/conversions.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -150,6 +151,27 @@ bool FromCameraInfo(const sensor_msgs::CameraInfo& info, CameraModel* camera, st
   }
   *camera = c;
   return true;
+}
+
+sensor_msgs::RegionOfInterest ToRoi(const ImageBox& box, uint32_t width_px, uint32_t height_px, bool rectified) {
+  sensor_msgs::RegionOfInterest roi;
+  roi.do_rectify = rectified;
+  if (!(std::isfinite(box.u_min) && std::isfinite(box.v_min) && std::isfinite(box.u_max) && std::isfinite(box.v_max)))
+    return roi;
+  const double u0 = std::max(0.0, std::floor(box.u_min + 0.5)), v0 = std::max(0.0, std::floor(box.v_min + 0.5));
+  const double u1 = std::min(double(width_px) - 1.0, std::ceil(box.u_max - 0.5));
+  const double v1 = std::min(double(height_px) - 1.0, std::ceil(box.v_max - 0.5));
+  if (!(u1 >= u0 && v1 >= v0)) return roi;  // outside the image
+  roi.x_offset = uint32_t(u0), roi.y_offset = uint32_t(v0);
+  roi.width = uint32_t(u1 - u0) + 1, roi.height = uint32_t(v1 - v0) + 1;
+  return roi;
+}
+
+ImageBox FromRoi(const sensor_msgs::RegionOfInterest& roi) {
+  ImageBox b;
+  b.u_min = double(roi.x_offset) - 0.5, b.v_min = double(roi.y_offset) - 0.5;
+  b.u_max = double(roi.x_offset) + double(roi.width) - 0.5, b.v_max = double(roi.y_offset) + double(roi.height) - 0.5;
+  return b;
 }
 
 }  // namespace rig_model

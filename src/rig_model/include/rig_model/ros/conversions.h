@@ -1,7 +1,7 @@
 // Messages <-> the rig's core types, written once: poses (pose_math, thesis quaternion order
 // [q0 qx qy qz]) to and from geometry_msgs Pose / Transform / PoseWithCovariance(Stamped), the
-// camera-IMU extrinsics to and from a TransformStamped, and rig_model::CameraModel to and from
-// sensor_msgs/CameraInfo. Covariances in messages are ROS's 6x6 (x y z rx ry rz), row-major;
+// camera-IMU extrinsics to and from a TransformStamped, rig_model::CameraModel to and from
+// sensor_msgs/CameraInfo, and image boxes to and from sensor_msgs/RegionOfInterest. Covariances in messages are ROS's 6x6 (x y z rx ry rz), row-major;
 // pose_math owns the map to and from the thesis's constrained 7x7 (5.6.4).
 #pragma once
 
@@ -14,10 +14,12 @@
 #include <geometry_msgs/TransformStamped.h>
 #include <ros/time.h>
 #include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/RegionOfInterest.h>
 
 #include "pose_math/pose.h"
 #include "rig_model/camera_imu.h"
 #include "rig_model/camera_model.h"
+#include "rig_model/cone_view.h"
 
 namespace rig_model {
 
@@ -51,5 +53,11 @@ sensor_msgs::CameraInfo ToCameraInfo(const CameraModel& camera, const ros::Time&
 // distortion_model, a coefficient count the model does not have); *camera untouched then.
 // An empty distortion_model takes eight coefficients as rational_polynomial, others as plumb_bob.
 bool FromCameraInfo(const sensor_msgs::CameraInfo& info, CameraModel* camera, std::string* why);
+
+// An image box (pixel centres at integers: pixel x spans x - 0.5 .. x + 0.5) as the whole pixels it touches,
+// clipped to a width x height image; do_rectify marks a box in undistorted pixels. A box wholly outside the
+// image gives width 0. FromRoi gives back the pixels' outer edges, so the round trip only grows a box.
+sensor_msgs::RegionOfInterest ToRoi(const ImageBox& box, uint32_t width_px, uint32_t height_px, bool rectified);
+ImageBox FromRoi(const sensor_msgs::RegionOfInterest& roi);
 
 }  // namespace rig_model
