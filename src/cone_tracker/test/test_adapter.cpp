@@ -234,6 +234,22 @@ TEST_F(Adapter, ReacquiresWhenTheTfPredictionKeepsFailing) {
 // pose_ekf back from an outage metres off and sure of it (rig_sim look_away seed 42): the re-acquired pose predicts
 // the next frames while tf contradicts it, so their cones keep their own ids; once tf agrees again, tf predicts. The
 // sequence on one layout file (RIG_MODEL_LAYOUTS_DIR).
+// Whether every observed cone's mid and base lie in the message's orange regions (within 1 px; not the peak, which
+// the line search puts on the edges' apex, where the tip is narrower than a pixel and not orange).
+bool ConesInOrange(const ConeObservations& msg) {
+  for (const ConeObservation& o : msg.cones)
+    for (const auto& p : {o.mid_px, o.base_px}) {
+      bool in = false;
+      for (const sensor_msgs::RegionOfInterest& roi : msg.orange) {
+        const rig_model::ImageBox b = rig_model::FromRoi(roi);
+        in = in || (roi.do_rectify && p[0] > b.u_min - 1.0 && p[0] < b.u_max + 1.0 && p[1] > b.v_min - 1.0 &&
+                    p[1] < b.v_max + 1.0);
+      }
+      if (!in) return false;
+    }
+  return true;
+}
+
 void ExpectOwnTrackOverrulesContradictingTf(const std::string& file) {
   SCOPED_TRACE(file);
   const std::string path = RIG_MODEL_LAYOUTS_DIR "/" + file;
@@ -260,6 +276,7 @@ void ExpectOwnTrackOverrulesContradictingTf(const std::string& file) {
     ASSERT_EQ(r.status, FrameStatus::kPose) << r.message;
     ASSERT_TRUE(r.observations);
     EXPECT_EQ(r.observations->cones.size(), 3u);
+    EXPECT_TRUE(ConesInOrange(*r.observations));
   }
   EXPECT_EQ(adapter.counters().tf_overruled, 2u);
   r = adapter.Process(frame(11.9), Truth());  // pose_ekf re-initialised from those poses: tf agrees

@@ -10,6 +10,7 @@
 
 #include "cone_tracker/pose/associate.h"
 #include "cone_tracker/vision/cone_pose.h"
+#include "cone_tracker/vision/segmenter.h"
 #include "pose_math/rotation.h"
 
 namespace cone_tracker {
@@ -366,6 +367,79 @@ TEST(Associate, AConeAReadingPutsInPlainViewUnseenCostsThatReadingAMiss) {
     EXPECT_TRUE(a.cone_of_detection[0] == 1 || a.cone_of_detection[0] == -1)
         << "sigma " << sigma_m << " m: cone 1 named cone " << a.cone_of_detection[0];
   }
+}
+
+// The orange regions of a cone's silhouette as the segmenter reports them (SegmentationResult::orange_undist_px):
+// boxes around four bands of its rows.
+std::vector<rig_model::ImageBox> Slabs(const rig_model::ConeSilhouette& s) {
+  std::vector<rig_model::ImageBox> out;
+  for (int i = 0; i < kOrangeSlabs; ++i) {
+    const double f0 = double(i) / kOrangeSlabs, f1 = double(i + 1) / kOrangeSlabs;
+    const Eigen::Vector2d a = s.peak_px + f0 * (s.base_px - s.peak_px), b = s.peak_px + f1 * (s.base_px - s.peak_px);
+    out.push_back(rig_model::SilhouetteBox(a, b, f1 * s.half_width_px));
+  }
+  return out;
+}
+
+// Negative information for a cone partly in view (rig_model::MissedInView). rig_sim's look_away seed 69 at 512x384,
+// 12.867 s, the first frame after the outage: pose_ekf 0.32 m off (its recorded pose and covariance), the tall
+// cone 1 accepted near the right edge, the short cone 2 below it refused (by the tip check). Read as cone 2, with
+// the camera 0.6 m away, cone 1 fits nearly as well (ambiguous: the frame went unfused), and that reading puts cone
+// 1 above it, cut by the right edge and touching cone 2's silhouette: not in plain view, no miss. But the image has
+// no orange there: with the orange regions that reading pays a miss, and the cone is associated. Orange over that
+// spot (an orange sign) takes the miss away again: ambiguous, never renamed.
+TEST(Associate, AReadingThatPutsAConePartlyInViewWhereNoOrangeIsCostsAMiss) {
+  const auto layout = Asymmetric();
+  CameraModel cam;
+  cam.width_px = 512, cam.height_px = 384, cam.fx_px = 385, cam.fy_px = 388, cam.cx_px = 255.5, cam.cy_px = 191.5;
+  const auto pose = [](const Eigen::Vector3d& p, const Eigen::Quaterniond& q_cones_camera) {
+    pose_math::Pose T;  // T_camera_cones
+    const Eigen::Matrix3d R = q_cones_camera.toRotationMatrix().transpose();
+    T.q = pose_math::QuatFromRotation(R), T.t = -(R * p);
+    return T;
+  };
+  const Eigen::Vector3d eye(-1.0780, -2.9265, 1.3758);
+  const pose_math::Pose truth = pose(eye, Eigen::Quaterniond(0.55786, -0.80518, -0.13912, 0.14533).normalized());
+  const Eigen::Quaterniond q_pred = Eigen::Quaterniond(0.55646, -0.80564, -0.13986, 0.14742).normalized();
+  const pose_math::Pose pred = pose(Eigen::Vector3d(-0.92748, -2.65288, 1.32011), q_pred);
+  Eigen::Matrix<double, 6, 6> cov_ros = Eigen::Matrix<double, 6, 6>::Zero();  // pose_ekf/pose's, rounded
+  cov_ros.topLeftCorner<3, 3>() << 0.1545, 0.0081, 0.0076, 0.0081, 0.1725, -0.0078, 0.0076, -0.0078, 0.1297;
+  cov_ros.bottomRightCorner<3, 3>() << 3.95e-6, 2.2e-7, 0.0, 2.2e-7, 3.99e-6, 7.8e-7, 0.0, 7.8e-7, 6.07e-6;
+  AssociationConfig cfg;  // as cone_tracker's node with rig_sim's configuration
+  cfg.prediction_cov = AssociationPrior(pose_math::Quat(q_pred.w(), q_pred.x(), q_pred.y(), q_pred.z()), cov_ros);
+  cfg.prediction_cov->diagonal() +=
+      (Eigen::Matrix<double, 6, 1>() << Eigen::Vector3d::Constant(std::pow(2.0 * M_PI / 180.0, 2)),
+       Eigen::Vector3d::Constant(0.05 * 0.05))
+          .finished();
+  cfg.miss_cost = 7.0;
+  const auto silhouettes =
+      LayoutSilhouettes(LayoutSeenFrom(layout), layout.size(), pose_math::RotationFromQuat(truth.q), eye, cam, 0.1);
+  ASSERT_TRUE(silhouettes[1] && silhouettes[2]);
+  const rig_model::ConeSilhouette cone1 = *silhouettes[1], cone2 = *silhouettes[2];
+  ASSERT_GT(cone1.peak_px.x(), 480.0) << "cone 1 near the right edge, as in the recording (497, 115)";
+  ASSERT_GT(cone2.base_px.y(), cone1.base_px.y()) << "cone 2 below it";
+  const ConePoints2d det = {cone1.peak_px, 0.5 * (cone1.peak_px + cone1.base_px), cone1.base_px};
+  const double h = (det[0] - det[2]).norm();
+  const std::vector<std::array<Eigen::Matrix2d, 3>> cov = {PointCovariances(det, h * h * layout[1].tau, 1.0)};
+  const auto associate = [&](const std::vector<rig_model::ImageBox>& orange) {
+    return AssociateCones({det}, cov, layout.size(), LayoutSeenFrom(layout), cam, pred, cfg, orange);
+  };
+  const AssociationResult plain = associate({});  // plain view only
+  EXPECT_EQ(plain.cone_of_detection, (std::vector<int>{-1}));
+  EXPECT_EQ(plain.ambiguous, 1);
+  std::vector<rig_model::ImageBox> orange = Slabs(cone1);
+  for (const rig_model::ImageBox& b : Slabs(cone2)) orange.push_back(b);
+  const AssociationResult with = associate(orange);
+  EXPECT_EQ(with.cone_of_detection, (std::vector<int>{1}));
+  EXPECT_EQ(with.misses, 0);
+  orange.push_back({cone1.peak_px.x() - 40.0, 0.0, 511.0, cone1.peak_px.y()});  // a sign above cone 1
+  const AssociationResult sign = associate(orange);
+  EXPECT_EQ(sign.cone_of_detection, (std::vector<int>{-1}));
+  EXPECT_EQ(sign.ambiguous, 1);
+  std::printf("[ miss ] look_away seed 69, 12.867 s: cone 1 alone, plain view only %s, with the orange cone %d, with "
+              "a sign above it %s\n",
+              plain.ambiguous ? "ambiguous" : "associated", with.cone_of_detection[0],
+              sign.ambiguous ? "ambiguous" : "associated");
 }
 
 TEST(PointCovariances, IsotropicButThePeakAlongTheAxis) {

@@ -85,6 +85,28 @@ TEST(Blobs, BlobOfRunsSumsTheHullsOfItsPieces) {
   EXPECT_EQ(c.fragments, 1);
 }
 
+TEST(Blobs, RowSlabsTileTheRowsAndFollowTheWidening) {
+  // A cone of 40 rows (10-49) with two collars (rows 20-26 and 30-39), its pieces taken as one blob: four bands of
+  // 10 rows each, the collars' rows covered.
+  Mask m(100, 60);
+  Triangle(&m, 50.0, 10, 49, 24.0, 20, 27, 30, 40);
+  std::vector<cone_tracker::Run> runs;
+  for (const Blob& b : FindBlobs(m.View(), 0, 0, 100, 60, 1)) runs.insert(runs.end(), b.runs.begin(), b.runs.end());
+  const std::vector<rig_model::ImageBox> slabs = RowSlabs(runs, 4);
+  ASSERT_EQ(slabs.size(), 4u);
+  for (size_t i = 0; i < 4; ++i) {
+    EXPECT_DOUBLE_EQ(slabs[i].v_min, 9.5 + 10.0 * double(i));
+    EXPECT_DOUBLE_EQ(slabs[i].v_max, 19.5 + 10.0 * double(i));
+  }
+  EXPECT_LT(slabs[0].u_max - slabs[0].u_min, 8.0);  // the tip: rows 10-19, up to 6 px wide
+  EXPECT_EQ(slabs[2].u_min, slabs[3].u_min);  // rows 30-39 are all collar: the band below's columns
+  EXPECT_EQ(slabs[2].u_max, slabs[3].u_max);
+  EXPECT_GT(slabs[3].u_max - slabs[3].u_min, 20.0);  // the base
+  // Fewer rows than bands: one band per row; no runs, no bands.
+  EXPECT_EQ(RowSlabs({{5, 0, 3}, {6, 0, 4}}, 4).size(), 2u);
+  EXPECT_TRUE(RowSlabs({}, 4).empty());
+}
+
 TEST(Blobs, DiagonalNeighboursAreOneBlobAndRoiClips) {
   Mask m(10, 10);
   m.Set(2, 2), m.Set(3, 3), m.Set(4, 4), m.Set(8, 1), m.Set(0, 9);

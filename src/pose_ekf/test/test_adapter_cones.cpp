@@ -130,6 +130,23 @@ TEST(AdapterCones, GoodObservationsAreFused) {
             pose_ekf::ConversionResult::kOk)
       << why;
   EXPECT_EQ(f.layout.size(), t.adapter.config().layout_cones.size());
+  // And the orange regions in undistorted pixels, as boxes out to the pixels' edges; boxes in raw pixels
+  // (do_rectify false) do not match the model's pixels and are left out.
+  cone_tracker::ConeObservations msg = t.Frame(3);
+  msg.orange.resize(2);
+  msg.orange[0].x_offset = 10, msg.orange[0].y_offset = 20, msg.orange[0].width = 5, msg.orange[0].height = 8;
+  msg.orange[0].do_rectify = true;
+  msg.orange[1] = msg.orange[0];
+  msg.orange[1].do_rectify = false;
+  ASSERT_EQ(pose_ekf::ConeFrameFromMsg(msg, t.adapter.config().camera_frame, t.adapter.config().layout_cones, &f, &why,
+                                       &nan, &invalid),
+            pose_ekf::ConversionResult::kOk)
+      << why;
+  ASSERT_EQ(f.orange_px.size(), 1u);
+  EXPECT_DOUBLE_EQ(f.orange_px[0].u_min, 9.5);
+  EXPECT_DOUBLE_EQ(f.orange_px[0].u_max, 14.5);
+  EXPECT_DOUBLE_EQ(f.orange_px[0].v_min, 19.5);
+  EXPECT_DOUBLE_EQ(f.orange_px[0].v_max, 27.5);
 }
 
 TEST(AdapterCones, BadConesAreLeftOutCountedAndNamed) {

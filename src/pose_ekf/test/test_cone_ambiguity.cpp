@@ -167,6 +167,69 @@ TEST(ConeGates, ARivalThatPutsAnUnseenConeInPlainViewPaysAMiss) {
   EXPECT_EQ(pose_ekf::ConesMissedAt(x, f, {1, 2}), 0);
 }
 
+// Negative information for a cone partly in view (ConeFrame::orange_px, rig_model::MissedInView). rig_sim's
+// look_away seed 69 at 512x384, 12.867 s, the first frame after the outage: pose_ekf 0.32 m off (its recorded pose
+// and position covariance), the tall cone 1 alone near the right edge (the short cone 2 below it refused by the
+// tracker). Read as cone 2, cone 1 fits nearly as well, and that reading puts cone 1 above it, cut by the right
+// edge: not in plain view, no miss, not fused. The frame's orange regions (cones 1 and 2 as they are, in four bands
+// of rows each as cone_tracker reports them) show none there: that reading pays a miss and the cone is fused.
+TEST(ConeGates, ARivalThatPutsAnUnseenConePartlyInViewWhereNoOrangeIsPaysAMiss) {
+  std::vector<pose_ekf::ConeGeometry> layout(3);  // rig_model's asymmetric.yaml
+  layout[0].base_m = {1.00, 0.00, 0}, layout[1].base_m = {-0.40, 0.85, 0}, layout[2].base_m = {-0.60, -0.85, 0};
+  layout[2].height_m = 0.46;
+  const pose_ekf::PinholeIntrinsics K{385.0, 388.0, 255.5, 191.5};
+  pose_math::Pose truth, predicted;  // T_cones_camera
+  truth.q = pose_math::Quat(0.55786, -0.80518, -0.13912, 0.14533).normalized(), truth.t = {-1.0780, -2.9265, 1.3758};
+  predicted.q = pose_math::Quat(0.55646, -0.80564, -0.13986, 0.14742).normalized();
+  predicted.t = {-0.92748, -2.65288, 1.32011};
+  Eigen::Matrix3d position_cov;  // pose_ekf/pose's, rounded
+  position_cov << 0.1545, 0.0081, 0.0076, 0.0081, 0.1725, -0.0078, 0.0076, -0.0078, 0.1297;
+  StateVector x_true = Tight(ConeSimConfig(), 0.0).state().x;
+  x_true.segment<4>(pose_ekf::kQ) = truth.q, x_true.segment<3>(pose_ekf::kP) = truth.t;
+  std::vector<rig_model::ImageBox> orange;
+  pose_ekf::ConeVector cone1;
+  ASSERT_TRUE(pose_ekf::ProjectCone(x_true, layout[1], K, &cone1, nullptr));
+  for (int k : {1, 2}) {
+    pose_ekf::ConeVector h;
+    ASSERT_TRUE(pose_ekf::ProjectCone(x_true, layout[size_t(k)], K, &h, nullptr));
+    const Eigen::Vector2d peak = h.segment<2>(0), axis = h.segment<2>(2) - peak;
+    for (int i = 0; i < 4; ++i)  // cone_tracker's kOrangeSlabs
+      orange.push_back(rig_model::SilhouetteBox(peak + i / 4.0 * axis, peak + (i + 1) / 4.0 * axis,
+                                                (i + 1) / 4.0 * layout[size_t(k)].tau * axis.norm()));
+  }
+  const auto run = [&](bool with_orange, ConeFrameResult* r) {
+    EkfConfig c = ConeSimConfig();
+    c.cone_miss_cost = 7.0;  // pose_ekf_rig_sim.yaml's
+    EkfCore ekf{c};
+    EXPECT_TRUE(ekf.Initialize(Camera(0.0, predicted, 0.0024, 0.01)));
+    pose_ekf::FilterState s = ekf.state();
+    s.P.block<3, 3>(pose_ekf::kP, pose_ekf::kP) = position_cov;
+    ekf.Restore(s);
+    // Cone 1 as the truth projects it (undistorted, its peak beyond u = 511 where ObserveCones would drop it).
+    ConeFrame f;
+    f.K = K, f.layout = layout, f.width_px = 512, f.height_px = 384;
+    f.cones.resize(1);
+    f.cones[0].cone_id = 1, f.cones[0].cone = layout[1];
+    f.cones[0].px = {cone1.segment<2>(0), 0.5 * (cone1.segment<2>(0) + cone1.segment<2>(2)), cone1.segment<2>(2)};
+    for (Eigen::Matrix2d& c : f.cones[0].cov_px2) c = Eigen::Matrix2d::Identity();
+    if (with_orange) f.orange_px = orange;
+    const UpdateResult u = ekf.UpdateCones(f, r);
+    std::printf("[ cones ] look_away seed 69, 12.867 s%s: own %.2f (%d missed), rival %.2f (cone %d, %d missed) -> %s\n",
+                with_orange ? ", orange regions" : ", plain view only", r->ambiguity_own_chi2, r->ambiguity_own_missed,
+                r->ambiguity_rival_chi2, r->ambiguity_rival_id, r->ambiguity_rival_missed, ToString(u));
+    return u;
+  };
+  ConeFrameResult r;
+  EXPECT_EQ(run(false, &r), UpdateResult::kGated);
+  EXPECT_EQ(r.ambiguous, 1);
+  EXPECT_EQ(r.ambiguity_rival_id, 2);
+  EXPECT_EQ(r.ambiguity_rival_missed, 0);
+  EXPECT_EQ(run(true, &r), UpdateResult::kApplied);
+  EXPECT_EQ(r.ambiguous, 0);
+  EXPECT_EQ(r.ambiguity_own_missed, 0);
+  EXPECT_EQ(r.ambiguity_rival_missed, 1);  // cone 1, above the detection, where the image has no orange
+}
+
 // ConeFitCost: with 0 iterations the first-order statistic yᵀ S⁻¹ y, and iterated the same figure where
 // h is nearly linear over the prior's range (small P). With the camera 0.5 m beside the prediction at a
 // position sigma of 0.5 m, the fit is at least as good as the truth itself (prior term 1 plus the

@@ -29,11 +29,53 @@ std::vector<bool> InPlainView(const std::vector<std::optional<ImageBox>>& boxes,
   return plain;
 }
 
-int MissedInPlainView(const std::vector<std::optional<ImageBox>>& boxes, const std::vector<bool>& seen, double width_px,
-                      double height_px, const PlainViewRule& rule) {
+double OrangeShareInView(const ConeSilhouette& s, const std::vector<ImageBox>& orange, double width_px,
+                         double height_px, double margin_px, double* visible_px2) {
+  // Rows at the centres of kRows equal steps from the apex to the base, row r with r + 1 points evenly across:
+  // a row's width grows with its distance from the apex, so the points are spread evenly over the area.
+  constexpr int kRows = 12;
+  const Eigen::Vector2d axis = s.base_px - s.peak_px;
+  const double length = axis.norm();
+  Eigen::Vector2d across(1.0, 0.0);
+  if (length > 0.0) across = Eigen::Vector2d(-axis.y(), axis.x()) / length;
+  const double lo = margin_px, u_hi = width_px - 1.0 - margin_px, v_hi = height_px - 1.0 - margin_px;
+  int total = 0, visible = 0, covered = 0;
+  for (int r = 0; r < kRows; ++r) {
+    const double f = (r + 0.5) / kRows;
+    for (int j = 0; j <= r; ++j) {
+      const double t = ((j + 0.5) / (r + 1) - 0.5) * 2.0 * f * s.half_width_px;
+      const Eigen::Vector2d p = s.peak_px + f * axis + t * across;
+      ++total;
+      if (!(p.x() >= lo && p.y() >= lo && p.x() <= u_hi && p.y() <= v_hi)) continue;
+      ++visible;
+      for (const ImageBox& b : orange)
+        if (p.x() >= b.u_min && p.x() <= b.u_max && p.y() >= b.v_min && p.y() <= b.v_max) {
+          ++covered;
+          break;
+        }
+    }
+  }
+  *visible_px2 = length * s.half_width_px * visible / total;  // the triangle's area, length * half-width
+  return visible > 0 ? double(covered) / visible : 0.0;
+}
+
+int MissedInView(const std::vector<std::optional<ConeSilhouette>>& silhouettes, const std::vector<bool>& seen,
+                 const std::vector<ImageBox>& orange, double width_px, double height_px, const PlainViewRule& rule) {
+  std::vector<std::optional<ImageBox>> boxes(silhouettes.size());
+  for (size_t k = 0; k < silhouettes.size(); ++k)
+    if (silhouettes[k]) boxes[k] = silhouettes[k]->Box();
   const std::vector<bool> plain = InPlainView(boxes, width_px, height_px, rule);
   int missed = 0;
-  for (size_t k = 0; k < plain.size(); ++k) missed += plain[k] && !(k < seen.size() && seen[k]);
+  for (size_t k = 0; k < plain.size(); ++k) {
+    if (!silhouettes[k] || (k < seen.size() && seen[k])) continue;
+    if (plain[k]) {
+      ++missed;
+    } else if (!orange.empty()) {
+      double visible_px2 = 0.0;
+      const double share = OrangeShareInView(*silhouettes[k], orange, width_px, height_px, rule.margin_px, &visible_px2);
+      missed += visible_px2 >= rule.part_min_area_px2 && share < rule.part_max_orange_frac;
+    }
+  }
   return missed;
 }
 

@@ -6,7 +6,8 @@ namespace rig_model {
 namespace {
 
 // A 40 px tall cone, 6 px half-width, with its base point at (u, v).
-ImageBox Cone(double u, double v) { return SilhouetteBox({u, v - 40.0}, {u, v}, 6.0); }
+ConeSilhouette Triangle(double u, double v) { return {{u, v - 40.0}, {u, v}, 6.0}; }
+ImageBox Cone(double u, double v) { return Triangle(u, v).Box(); }
 
 TEST(ConeView, SilhouetteBoxSpansPeakBaseAndHalfWidth) {
   const ImageBox b = SilhouetteBox({100.0, 50.0}, {104.0, 90.0}, 5.0);
@@ -43,11 +44,48 @@ TEST(ConeView, PlainViewNeedsTheWholeSilhouetteInsideTallAndApart) {
 
 TEST(ConeView, MissesAreConesInPlainViewNotSeen) {
   // Two in plain view, one cut by the edge, one behind the camera: seeing the first leaves one miss; seeing
-  // none, two; a cone not in plain view is never a miss, seen or not.
-  const std::vector<std::optional<ImageBox>> boxes = {Cone(100, 200), Cone(300, 200), Cone(10, 200), std::nullopt};
-  EXPECT_EQ(MissedInPlainView(boxes, {true, false, false, false}, 512, 384), 1);
-  EXPECT_EQ(MissedInPlainView(boxes, {}, 512, 384), 2);
-  EXPECT_EQ(MissedInPlainView(boxes, {true, true, true, true}, 512, 384), 0);
+  // none, two; without orange regions a cone not in plain view is never a miss, seen or not.
+  const std::vector<std::optional<ConeSilhouette>> cones = {Triangle(100, 200), Triangle(300, 200), Triangle(10, 200),
+                                                            std::nullopt};
+  EXPECT_EQ(MissedInView(cones, {true, false, false, false}, {}, 512, 384), 1);
+  EXPECT_EQ(MissedInView(cones, {}, {}, 512, 384), 2);
+  EXPECT_EQ(MissedInView(cones, {true, true, true, true}, {}, 512, 384), 0);
+}
+
+TEST(ConeView, OrangeShareIsOverTheTrianglesVisibleArea) {
+  const ConeSilhouette c = Triangle(200, 200);  // rows 160-200, 12 px wide at the base: 240 px^2
+  double visible = 0.0;
+  EXPECT_DOUBLE_EQ(OrangeShareInView(c, {Cone(200, 200)}, 512, 384, 8.0, &visible), 1.0);
+  EXPECT_DOUBLE_EQ(visible, 240.0);
+  EXPECT_DOUBLE_EQ(OrangeShareInView(c, {}, 512, 384, 8.0, &visible), 0.0);
+  // The lower half of the rows holds three quarters of the area; the upper half a quarter.
+  EXPECT_NEAR(OrangeShareInView(c, {{190, 180, 210, 200}}, 512, 384, 8.0, &visible), 0.75, 0.02);
+  EXPECT_NEAR(OrangeShareInView(c, {{190, 160, 210, 180}}, 512, 384, 8.0, &visible), 0.25, 0.02);
+  // Cut by the left edge (margin 8) down its axis: half of it is visible, all of that orange.
+  EXPECT_NEAR(OrangeShareInView(Triangle(8, 200), {Cone(8, 200)}, 512, 384, 8.0, &visible), 1.0, 1e-12);
+  EXPECT_NEAR(visible, 120.0, 10.0);
+  // Wholly outside: nothing visible.
+  EXPECT_DOUBLE_EQ(OrangeShareInView(Triangle(-20, 200), {}, 512, 384, 8.0, &visible), 0.0);
+  EXPECT_DOUBLE_EQ(visible, 0.0);
+}
+
+TEST(ConeView, AConePartlyInViewWithNoOrangeOverItIsAMiss) {
+  const std::vector<ImageBox> seen_cone = {Cone(300, 200)};  // the orange of a seen cone elsewhere
+  // Cut by the left edge: a miss when no orange lies there, none when its visible part is orange.
+  std::vector<std::optional<ConeSilhouette>> cones = {Triangle(300, 200), Triangle(8, 200)};
+  EXPECT_EQ(MissedInView(cones, {true, false}, seen_cone, 512, 384), 1);
+  EXPECT_EQ(MissedInView(cones, {true, false}, {Cone(300, 200), {0, 160, 14, 200}}, 512, 384), 0);
+  // Orange over less than half of the visible part (part_max_orange_frac): still a miss.
+  EXPECT_EQ(MissedInView(cones, {true, false}, {Cone(300, 200), {0, 160, 14, 180}}, 512, 384), 1);
+  // Too little of it in view (part_min_area_px2): no miss.
+  cones[1] = Triangle(2, 200);
+  EXPECT_EQ(MissedInView(cones, {true, false}, seen_cone, 512, 384), 0);
+  // Overlapping the seen cone (not in plain view): its orange covers the overlap only. Far enough apart that
+  // most of the second is bare, a miss; on top of it, none.
+  cones = {Triangle(300, 200), Triangle(300, 165)};
+  EXPECT_EQ(MissedInView(cones, {true, false}, seen_cone, 512, 384), 1);
+  cones = {Triangle(300, 200), Triangle(302, 198)};
+  EXPECT_EQ(MissedInView(cones, {true, false}, seen_cone, 512, 384), 0);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <boost/make_shared.hpp>
 
 #include "cone_tracker/node/tracker_adapter.h"
+#include "rig_model/ros/conversions.h"
 
 namespace cone_tracker {
 namespace {
@@ -61,7 +62,8 @@ void TrackerAdapter::FillObservations(const sensor_msgs::Image& im, const std::o
     CameraModel pinhole = camera_;  // the detections are undistorted (3.1.2)
     pinhole.distortion.clear();
     r->association =
-        AssociateCones(points, cov, layout_.size(), LayoutSeenFrom(layout_), pinhole, pose_math::Invert(*pred), a);
+        AssociateCones(points, cov, layout_.size(), LayoutSeenFrom(layout_), pinhole, pose_math::Invert(*pred), a,
+                       r->segmentation.orange_undist_px);
     counters_.association_ambiguous += uint64_t(r->association.ambiguous);
     counters_.association_conflicts += r->association.conflict;
   }
@@ -88,6 +90,10 @@ void TrackerAdapter::FillObservations(const sensor_msgs::Image& im, const std::o
   msg->header.frame_id = im.header.frame_id.empty() ? config_.camera_frame : im.header.frame_id;
   msg->fx = camera_.fx_px, msg->fy = camera_.fy_px, msg->cx = camera_.cx_px, msg->cy = camera_.cy_px;
   msg->width = static_cast<uint32_t>(camera_.width_px), msg->height = static_cast<uint32_t>(camera_.height_px);
+  for (const rig_model::ImageBox& b : r->segmentation.orange_undist_px) {
+    const sensor_msgs::RegionOfInterest roi = rig_model::ToRoi(b, msg->width, msg->height, true);
+    if (roi.width > 0) msg->orange.push_back(roi);
+  }
   for (size_t d = 0; d < dets.size() && d < ids.size(); ++d) {
     if (ids[d] < 0) continue;
     ConeObservation o;

@@ -55,11 +55,11 @@ Eigen::Matrix3d Exp(const Eigen::Vector3d& v) {
   return pose_math::RotationFromQuat(pose_math::QuatFromRotationVector(v));
 }
 
-// A layout cone's silhouette in the image (rig_model::SilhouetteBox): the base point is the base radius off the
-// axis (3.18), its horizontal offset from the peak the half-width.
-rig_model::ImageBox Silhouette(const ConePoints3d& p, const Eigen::Vector2d& peak_px, const Eigen::Vector2d& base_px,
-                               double base_depth_m, const CameraModel& cam) {
-  return rig_model::SilhouetteBox(peak_px, base_px, cam.fx_px * (p[2] - p[0]).head<2>().norm() / base_depth_m);
+// A layout cone's silhouette in the image: the base point is the base radius off the axis (3.18), its horizontal
+// offset from the peak the half-width.
+rig_model::ConeSilhouette Silhouette(const ConePoints3d& p, const Eigen::Vector2d& peak_px,
+                                     const Eigen::Vector2d& base_px, double base_depth_m, const CameraModel& cam) {
+  return {peak_px, base_px, cam.fx_px * (p[2] - p[0]).head<2>().norm() / base_depth_m};
 }
 
 Vector6d Stack(const ConePoints2d& d) {
@@ -70,11 +70,11 @@ Vector6d Stack(const ConePoints2d& d) {
 
 }  // namespace
 
-std::vector<std::optional<rig_model::ImageBox>> LayoutSilhouettes(const ModelPointsAt& model, size_t num_cones,
-                                                                  const Eigen::Matrix3d& R_camera_cones,
-                                                                  const Eigen::Vector3d& eye, const CameraModel& cam,
-                                                                  double min_depth_m) {
-  std::vector<std::optional<rig_model::ImageBox>> boxes(num_cones);
+std::vector<std::optional<rig_model::ConeSilhouette>> LayoutSilhouettes(const ModelPointsAt& model, size_t num_cones,
+                                                                        const Eigen::Matrix3d& R_camera_cones,
+                                                                        const Eigen::Vector3d& eye,
+                                                                        const CameraModel& cam, double min_depth_m) {
+  std::vector<std::optional<rig_model::ConeSilhouette>> boxes(num_cones);
   for (size_t k = 0; k < num_cones; ++k) {
     const ConePoints3d p = model(k, eye);
     const Eigen::Vector3d peak = R_camera_cones * (p[0] - eye), base = R_camera_cones * (p[2] - eye);
@@ -126,7 +126,7 @@ std::array<Eigen::Matrix2d, 3> PointCovariances(const ConePoints2d& pts, double 
 AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
                                  const std::vector<std::array<Eigen::Matrix2d, 3>>& point_cov, size_t num_cones,
                                  const ModelPointsAt& model, const CameraModel& cam, const pose_math::Pose& T_pred,
-                                 const AssociationConfig& cfg) {
+                                 const AssociationConfig& cfg, const std::vector<rig_model::ImageBox>& orange) {
   AssociationResult out;
   const size_t nd = dets.size();
   out.cone_of_detection.assign(nd, -1);
@@ -147,7 +147,8 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
     const ConePoints3d p = model(c, eye);
     if (!ProjectCone(p, R, eye, cam, cfg, &k)) continue;
     out.candidates.push_back(k);
-    boxes.push_back(Silhouette(p, k.predicted_px.head<2>(), k.predicted_px.tail<2>(), (R * (p[2] - eye)).z(), cam));
+    boxes.push_back(
+        Silhouette(p, k.predicted_px.head<2>(), k.predicted_px.tail<2>(), (R * (p[2] - eye)).z(), cam).Box());
   }
   // Cones predicted to overlap in the image are left out: the segmentation
   // merges them into one blob or cuts the far one, whose points fit neither.
@@ -281,16 +282,17 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
     Fit fit;
     int misses = 0;
   };
-  // The layout cones an assignment leaves unmatched that its fitted pose puts in plain view: every
-  // layout cone, not only the candidates (the fit may move one into the image), projected unclipped.
+  // The layout cones an assignment leaves unmatched that its fitted pose puts in plain view, or partly in view where
+  // the image has no orange: every layout cone, not only the candidates (the fit may move one into the image),
+  // projected unclipped.
   const auto misses_at = [&](const Vector6d& x, const std::vector<int>& a) {
     if (!(cfg.miss_cost > 0.0)) return 0;
-    const auto boxes =
+    const auto silhouettes =
         LayoutSilhouettes(model, num_cones, Exp(x.head<3>()) * R, eye + x.tail<3>(), cam, cfg.min_depth_m);
     std::vector<bool> seen(num_cones, false);
     for (int c : a)
       if (c >= 0) seen[size_t(out.candidates[size_t(c)].cone)] = true;
-    return rig_model::MissedInPlainView(boxes, seen, cam.width_px, cam.height_px, cfg.plain_view);
+    return rig_model::MissedInView(silhouettes, seen, orange, cam.width_px, cam.height_px, cfg.plain_view);
   };
   std::vector<Scored> all;
   std::vector<int> cur(nd, -1);

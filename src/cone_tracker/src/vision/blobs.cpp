@@ -52,6 +52,30 @@ double WidthAcross(const std::vector<Run>& runs, const Eigen::Vector2d& origin, 
   return hi >= lo ? hi - lo + 1.0 : 0.0;
 }
 
+std::vector<rig_model::ImageBox> RowSlabs(const std::vector<Run>& runs, int slabs) {
+  if (runs.empty() || slabs < 1) return {};
+  int y_lo = runs[0].y, y_hi = runs[0].y;
+  for (const Run& r : runs) y_lo = std::min(y_lo, r.y), y_hi = std::max(y_hi, r.y);
+  const int rows = y_hi - y_lo + 1, n = std::min(slabs, rows);
+  std::vector<rig_model::ImageBox> box(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) {  // every row of the band, those of a white collar between fragments too
+    box[size_t(i)].v_min = y_lo + (i * rows + n - 1) / n - 0.5;
+    box[size_t(i)].v_max = y_lo + ((i + 1) * rows + n - 1) / n - 0.5;
+    box[size_t(i)].u_min = INFINITY, box[size_t(i)].u_max = -INFINITY;
+  }
+  for (const Run& r : runs) {
+    rig_model::ImageBox& b = box[size_t((r.y - y_lo) * n / rows)];
+    b.u_min = std::min(b.u_min, r.x0 - 0.5), b.u_max = std::max(b.u_max, r.x1 + 0.5);
+  }
+  // A band wholly inside a collar takes the columns of the band below it (nearer the base), else above.
+  const auto take_columns = [&](size_t to, size_t from) {
+    if (!(box[to].u_max > box[to].u_min)) box[to].u_min = box[from].u_min, box[to].u_max = box[from].u_max;
+  };
+  for (size_t i = size_t(n) - 1; i-- > 0;) take_columns(i, i + 1);
+  for (size_t i = 1; i < size_t(n); ++i) take_columns(i, i - 1);
+  return box;
+}
+
 void Moments::Add(const Run& r) {
   const double len = r.x1 - r.x0 + 1.0, y = r.y;
   const double sx_run = 0.5 * len * (r.x0 + r.x1);

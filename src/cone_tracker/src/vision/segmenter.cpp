@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
+#include <utility>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -387,6 +388,7 @@ SegmentationResult Segmenter::Process(const ImageView& image, const CameraModel&
   std::vector<OutlineFit> fits(blobs.size());
   for (size_t i = 0; i < blobs.size(); ++i) dets[i] = Judge(std::move(blobs[i]), mask, camera, &fits[i]);
   SplitMergedTips(&dets, fits, mask, camera);
+  result.orange_undist_px = OrangeRegions(dets, camera);
   for (ConeDetection& det : dets) {
     det.blob.runs.clear();
     det.blob.runs.shrink_to_fit();
@@ -396,6 +398,33 @@ SegmentationResult Segmenter::Process(const ImageView& image, const CameraModel&
             [](const ConeDetection& a, const ConeDetection& b) { return a.peak_px.x() < b.peak_px.x(); });
   result.measure_ms = MsSince(&t);
   return result;
+}
+
+std::vector<rig_model::ImageBox> OrangeRegions(const std::vector<ConeDetection>& dets, const CameraModel& camera) {
+  std::vector<rig_model::ImageBox> boxes;
+  for (const ConeDetection& d : dets) {
+    const std::vector<rig_model::ImageBox> slabs = RowSlabs(d.blob.runs, kOrangeSlabs);
+    boxes.insert(boxes.end(), slabs.begin(), slabs.end());
+  }
+  // Each box's corners and edge midpoints, undistorted: the box around them holds the undistorted box's edges, which
+  // the lens bends.
+  std::vector<Eigen::Vector2d> pts;
+  for (const rig_model::ImageBox& b : boxes) {
+    const double um = 0.5 * (b.u_min + b.u_max), vm = 0.5 * (b.v_min + b.v_max);
+    for (const auto& [u, v] : {std::pair{b.u_min, b.v_min}, {um, b.v_min}, {b.u_max, b.v_min}, {b.u_max, vm},
+                               {b.u_max, b.v_max}, {um, b.v_max}, {b.u_min, b.v_max}, {b.u_min, vm}})
+      pts.emplace_back(u, v);
+  }
+  if (!UndistortPixels(camera, &pts)) return boxes;  // a lens that does not invert: the raw boxes, near enough
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    rig_model::ImageBox& b = boxes[i];
+    b = {INFINITY, INFINITY, -INFINITY, -INFINITY};
+    for (size_t k = 8 * i; k < 8 * i + 8; ++k) {
+      b.u_min = std::min(b.u_min, pts[k].x()), b.u_max = std::max(b.u_max, pts[k].x());
+      b.v_min = std::min(b.v_min, pts[k].y()), b.v_max = std::max(b.v_max, pts[k].y());
+    }
+  }
+  return boxes;
 }
 
 bool UndistortPixels(const CameraModel& camera, std::vector<Eigen::Vector2d>* points) {

@@ -102,10 +102,11 @@ double FuseGravity(const GravityPrior& g, const std::vector<Eigen::Vector3d>& mo
 }
 
 // Layout cones other than a and b that the pose puts in plain view with no blob over them, accepted or refused (a
-// refused blob is a cone the gates turned down, not a miss): rig_model::MissedInPlainView, the association's rule.
+// refused blob is a cone the gates turned down, not a miss): rig_model::MissedInView, the association's rule, in plain
+// view only.
 int Misses(const pose_math::Pose& T_camera_cones, int a, int b, const std::vector<ConeModel>& cones,
            const CameraModel& cam, const std::vector<ConeDetection>& rejected) {
-  const auto boxes =
+  const auto silhouettes =
       LayoutSilhouettes(LayoutSeenFrom(cones), cones.size(), pose_math::RotationFromQuat(T_camera_cones.q),
                         pose_math::Invert(T_camera_cones).t, cam, AssociationConfig().min_depth_m);
   std::vector<bool> seen(cones.size(), false);
@@ -115,9 +116,9 @@ int Misses(const pose_math::Pose& T_camera_cones, int a, int b, const std::vecto
       const Blob& o = d.blob;
       const rig_model::ImageBox blob{double(o.bbox_x), double(o.bbox_y), double(o.bbox_x + o.bbox_w),
                                      double(o.bbox_y + o.bbox_h)};
-      seen[k] = seen[k] || (boxes[k] && blob.Overlaps(*boxes[k]));
+      seen[k] = seen[k] || (silhouettes[k] && blob.Overlaps(silhouettes[k]->Box()));
     }
-  return rig_model::MissedInPlainView(boxes, seen, cam.width_px, cam.height_px);
+  return rig_model::MissedInView(silhouettes, seen, {}, cam.width_px, cam.height_px);
 }
 
 }  // namespace

@@ -189,17 +189,17 @@ double ConeFitCost(const StateVector& x0, const StateMatrix& P, const ConeGeomet
 
 int ConesMissedAt(const StateVector& x, const ConeFrame& f, const std::vector<int>& seen) {
   if (!(f.width_px > 0.0 && f.height_px > 0.0)) return 0;
-  std::vector<std::optional<rig_model::ImageBox>> boxes(f.layout.size());
+  std::vector<std::optional<rig_model::ConeSilhouette>> silhouettes(f.layout.size());
   ConeVector h;
   for (size_t k = 0; k < f.layout.size(); ++k) {
     if (!ProjectCone(x, f.layout[k], f.K, &h, nullptr)) continue;
     const Eigen::Vector2d peak = h.segment<2>(0), base = h.segment<2>(2);
-    boxes[k] = rig_model::SilhouetteBox(peak, base, f.layout[k].tau * (peak - base).norm());
+    silhouettes[k] = rig_model::ConeSilhouette{peak, base, f.layout[k].tau * (peak - base).norm()};
   }
   std::vector<bool> seen_k(f.layout.size(), false);
   for (int id : seen)
     if (id >= 0 && static_cast<size_t>(id) < seen_k.size()) seen_k[static_cast<size_t>(id)] = true;
-  return rig_model::MissedInPlainView(boxes, seen_k, f.width_px, f.height_px);
+  return rig_model::MissedInView(silhouettes, seen_k, f.orange_px, f.width_px, f.height_px);
 }
 
 // The iterated EKF update of one cone: the update from the prior x0 linearised at x_i takes the residual

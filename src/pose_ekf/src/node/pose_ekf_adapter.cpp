@@ -124,6 +124,9 @@ ConversionResult ConeFrameFromMsg(const cone_tracker::ConeObservations& msg, con
   out->cones.clear();
   out->layout = layout;
   out->width_px = msg.width, out->height_px = msg.height;  // 0 (an older publisher): no negative information
+  out->orange_px.clear();
+  for (const sensor_msgs::RegionOfInterest& roi : msg.orange)
+    if (roi.do_rectify) out->orange_px.push_back(rig_model::FromRoi(roi));  // the model's pixels are undistorted
   static const char* const kPoints[kConePoints] = {"peak", "mid", "base"};
   for (size_t i = 0; i < msg.cones.size(); ++i) {
     const cone_tracker::ConeObservation& m = msg.cones[i];

@@ -3,8 +3,9 @@
 // cone in plain view where nothing was detected explains the image worse than one that does not, by
 // the cost of a missed detection, -2 ln(1 - P_D) in chi-square units. After an outage a lone tall cone
 // can often be read as a short cone nearer (the prior allows the shift); that reading usually moves
-// the tall cone into the middle of the image, where the detector would have seen it. The one rule
-// cone_tracker's association and pose_ekf's lone-cone test share. ROS-free.
+// the tall cone into the middle of the image, where the detector would have seen it. A cone the hypothesis puts
+// only partly in view (cut by the image's edge, or overlapping another) is a miss too when the image has no orange
+// where it would be. The one rule cone_tracker's association and pose_ekf's lone-cone test share. ROS-free.
 #pragma once
 
 #include <optional>
@@ -25,6 +26,14 @@ struct ImageBox {
 };
 ImageBox SilhouetteBox(const Eigen::Vector2d& peak_px, const Eigen::Vector2d& base_px, double half_width_px);
 
+// A cone's silhouette as a triangle: its apex at the peak, its base through the base point, half_width_px to either
+// side across the axis.
+struct ConeSilhouette {
+  Eigen::Vector2d peak_px = Eigen::Vector2d::Zero(), base_px = Eigen::Vector2d::Zero();
+  double half_width_px = 0.0;
+  ImageBox Box() const { return SilhouetteBox(peak_px, base_px, half_width_px); }
+};
+
 // What a detector cannot miss: the whole silhouette inside the image by margin_px on every side (the
 // segmenter refuses blobs at the border, and a cut cone is no miss), at least min_height_px tall (small
 // blobs fail its area gate), and apart from every other cone's silhouette (one cone may hide another,
@@ -32,6 +41,14 @@ ImageBox SilhouetteBox(const Eigen::Vector2d& peak_px, const Eigen::Vector2d& ba
 struct PlainViewRule {
   double margin_px = 8.0;
   double min_height_px = 12.0;
+  // A cone only partly in view (not in plain view) is missed when at least part_min_area_px2 of its triangle lies
+  // inside the image by margin_px, and less than part_max_orange_frac of that part lies in the orange regions (the
+  // boxes around the mask's orange, every blob's, accepted or refused). Orange there may be it (cut by the image's
+  // edge, refused, or partly hidden): no miss. A wrong reading puts the cone where the image shows none. The area
+  // is a patch the mask cannot lose (the segmenter drops blobs under 4 px); a real cone, white bands and a few
+  // pixels of prediction error included, leaves well over half its visible triangle orange.
+  double part_min_area_px2 = 48.0;
+  double part_max_orange_frac = 0.5;
 };
 
 // boxes: every layout cone's silhouette at the hypothesis's pose, nullopt for one not in front of
@@ -39,9 +56,16 @@ struct PlainViewRule {
 std::vector<bool> InPlainView(const std::vector<std::optional<ImageBox>>& boxes, double width_px, double height_px,
                               const PlainViewRule& rule = {});
 
-// The misses of a hypothesis: the layout cones it puts in plain view (InPlainView) that are not seen (seen[k]: a
-// detection was taken as cone k).
-int MissedInPlainView(const std::vector<std::optional<ImageBox>>& boxes, const std::vector<bool>& seen, double width_px,
-                      double height_px, const PlainViewRule& rule = {});
+// The share of a silhouette's triangle inside the image by margin_px that lies in one of the `orange` boxes, sampled
+// evenly over its area (78 points); *visible_px2 gets the area of that part (0: none, and the share is 0).
+double OrangeShareInView(const ConeSilhouette& s, const std::vector<ImageBox>& orange, double width_px,
+                         double height_px, double margin_px, double* visible_px2);
+
+// The misses of a hypothesis: the layout cones that are not seen (seen[k]: a detection was taken as cone k) and that
+// it puts in plain view (InPlainView), or partly in view where `orange` has none (PlainViewRule's part_*). Empty
+// `orange`: not known (the image has at least the seen cone's), plain view only.
+int MissedInView(const std::vector<std::optional<ConeSilhouette>>& silhouettes, const std::vector<bool>& seen,
+                 const std::vector<ImageBox>& orange, double width_px, double height_px,
+                 const PlainViewRule& rule = {});
 
 }  // namespace rig_model

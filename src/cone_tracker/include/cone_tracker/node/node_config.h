@@ -59,8 +59,9 @@ struct NodeConfig {
   double prediction_drift_m_s = 0.5;
   double prediction_max_sigma_m = 1.0;
   double association_margin = 9.0;
-  // An assignment that puts a layout cone it leaves unmatched in plain view costs this much more
-  // (AssociationConfig::miss_cost, negative information); 0: off (the rig, until its detector's P_D is measured).
+  // An assignment that puts a layout cone it leaves unmatched in plain view, or partly in view where the image has no
+  // orange, costs this much more (AssociationConfig::miss_cost, negative information); 0: off (the rig, until its
+  // detector's P_D is measured).
   double association_miss_cost = 0.0;
   double expected_rate_hz = 30.0;  // diagnostics' frequency check on published poses
   double rate_tolerance = 0.5;     // +-50 % of expected_rate_hz

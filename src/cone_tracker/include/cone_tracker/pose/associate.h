@@ -54,7 +54,8 @@ struct AssociationConfig {
   double overlap_sigmas = 2.0;
   size_t max_assignments = 200000;  // enumeration bound; beyond it nothing is associated
   // Negative information: an assignment whose fitted pose puts a layout cone it leaves unmatched in plain
-  // view (rig_model/cone_view.h) costs this much more per such cone, -2 ln(1 - P_D); 0: off. Below the
+  // view, or partly in view where the image has no orange (rig_model/cone_view.h), costs this much more per such
+  // cone, -2 ln(1 - P_D); 0: off. Below the
   // ambiguity margin, a miss alone never makes a wrong cone win: it can only make a detection ambiguous.
   double miss_cost = 0.0;
   rig_model::PlainViewRule plain_view;
@@ -95,21 +96,23 @@ Eigen::Matrix<double, 6, 6> AssociationPrior(const pose_math::Quat& q_cones_came
 // camera metres after an outage, asks for them at every pose it tries.
 using ModelPointsAt = std::function<ConePoints3d(size_t cone, const Eigen::Vector3d& p_camera_in_cones_m)>;
 
-// Every layout cone's silhouette (rig_model::SilhouetteBox) seen from a camera at `eye` (in `cones`) turned by
-// R_camera_cones, unclipped; nullopt for a cone whose peak or base is not min_depth_m in front of the camera. What
-// rig_model::InPlainView judges (the association's misses, the two-cone start's).
-std::vector<std::optional<rig_model::ImageBox>> LayoutSilhouettes(const ModelPointsAt& model, size_t num_cones,
-                                                                  const Eigen::Matrix3d& R_camera_cones,
-                                                                  const Eigen::Vector3d& eye, const CameraModel& cam,
-                                                                  double min_depth_m);
+// Every layout cone's silhouette seen from a camera at `eye` (in `cones`) turned by R_camera_cones, unclipped;
+// nullopt for a cone whose peak or base is not min_depth_m in front of the camera. What rig_model::MissedInView
+// judges (the association's misses, the two-cone start's).
+std::vector<std::optional<rig_model::ConeSilhouette>> LayoutSilhouettes(const ModelPointsAt& model, size_t num_cones,
+                                                                        const Eigen::Matrix3d& R_camera_cones,
+                                                                        const Eigen::Vector3d& eye,
+                                                                        const CameraModel& cam, double min_depth_m);
 
 // detections: undistorted points; point_cov: their 2x2 covariances (PointCovariances);
 // model: the points of layout cones 0 .. num_cones - 1 (cone_pose.h's LayoutSeenFrom); camera: the pinhole of
-// the undistorted pixels.
+// the undistorted pixels; orange: where the image is orange, in undistorted pixels (SegmentationResult's
+// orange_undist_px; empty: not known, only cones in plain view are missed).
 AssociationResult AssociateCones(const std::vector<ConePoints2d>& detections,
                                  const std::vector<std::array<Eigen::Matrix2d, 3>>& point_cov, size_t num_cones,
                                  const ModelPointsAt& model, const CameraModel& camera,
-                                 const pose_math::Pose& T_camera_cones_pred, const AssociationConfig& config);
+                                 const pose_math::Pose& T_camera_cones_pred, const AssociationConfig& config,
+                                 const std::vector<rig_model::ImageBox>& orange = {});
 
 // The 2x2 covariances (px^2) of a detected cone's peak, mid and base: sigma_px
 // per coordinate (the point noise of the 5.6 covariance) for all three, and for

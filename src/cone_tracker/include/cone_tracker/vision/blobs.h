@@ -10,6 +10,8 @@
 
 #include <Eigen/Core>
 
+#include "rig_model/cone_view.h"
+
 namespace cone_tracker {
 
 struct Run {
@@ -63,6 +65,12 @@ Blob BlobOfRuns(std::vector<Run> runs);
 // along-axis coordinate from origin lies in [t_lo, t_hi]; 0 when none does.
 double WidthAcross(const std::vector<Run>& runs, const Eigen::Vector2d& origin, const Eigen::Vector2d& axis,
                    double t_lo = -INFINITY, double t_hi = INFINITY);
+
+// Where a blob's pixels lie, tighter than its bounding box: its rows cut into `slabs` bands of equal height (fewer
+// for a blob fewer rows tall), each band's box in pixel edges (pixel x spans x - 0.5 .. x + 0.5), the band's rows
+// by the columns of its runs. A cone's triangle leaves half its bounding box empty; its slabs follow its widening.
+// The bands tile the blob's rows, a white collar's between two merged fragments included.
+std::vector<rig_model::ImageBox> RowSlabs(const std::vector<Run>& runs, int slabs);
 
 // Merges blobs that lie along one cone's axis (fragments separated by white
 // collars): a smaller blob joins a larger one when its centroid is within

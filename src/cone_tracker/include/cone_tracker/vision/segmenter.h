@@ -36,6 +36,9 @@ namespace cone_tracker {
 // The values are dynamic_reconfigure's (cfg/ConeTracker.cfg, peak_refinement).
 enum class PeakRefinement { kOutline = 0, kTemplates = 1, kNone = 2 };
 constexpr int kPeakRefinements = 3;
+// Boxes per blob in SegmentationResult::orange_undist_px: a cone's triangle in four bands of rows leaves an eighth of
+// the boxes' area empty (a single box: half).
+constexpr int kOrangeSlabs = 4;
 
 // "outline", "templates", "none": the parameter's names for the values.
 std::string PeakRefinementName(PeakRefinement r);
@@ -139,6 +142,10 @@ struct SegmentationResult {
   std::string error;                    // why ok is false (bad encoding, empty image)
   std::vector<ConeDetection> cones;     // accepted, sorted by u of the peak
   std::vector<ConeDetection> rejected;  // with failed_gates set
+  // Where the image is orange, in undistorted pixels: every blob's, accepted or refused, as kOrangeSlabs boxes
+  // around bands of its rows (RowSlabs), each box around its undistorted corners and edge midpoints. The
+  // association's negative information (rig_model::MissedInView).
+  std::vector<rig_model::ImageBox> orange_undist_px;
   int roi_x = 0, roi_y = 0, roi_w = 0, roi_h = 0;
   // Wall time per stage (steady clock): colour table + ROI, connected
   // components + merging, gates + line search + refinement + undistortion.
@@ -186,6 +193,9 @@ class Segmenter {
   std::vector<uint8_t> mask_;                         // full-size, zero outside the ROI
   std::shared_ptr<const ConeTemplateSet> templates_;  // built at start-up for kTemplates
 };
+
+// SegmentationResult::orange_undist_px of these detections (their blobs' runs not yet cleared).
+std::vector<rig_model::ImageBox> OrangeRegions(const std::vector<ConeDetection>& dets, const CameraModel& camera);
 
 // Undistorts pixel points in place to ideal pinhole pixels with the same K (3.1.2).
 bool UndistortPixels(const CameraModel& camera, std::vector<Eigen::Vector2d>* points_px);

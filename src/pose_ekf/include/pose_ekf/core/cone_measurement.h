@@ -21,6 +21,7 @@
 #include <Eigen/Core>
 
 #include "pose_ekf/core/process_model.h"
+#include "rig_model/cone_view.h"
 
 namespace rig_model {
 struct Layout;
@@ -68,6 +69,9 @@ struct ConeFrame {
   std::vector<ConeGeometry> layout;
   // The image's size (px), for the test's negative information (EkfConfig::cone_miss_cost); 0: unknown.
   double width_px = 0.0, height_px = 0.0;
+  // Where the image is orange (undistorted px, cone_tracker/observations' `orange`): a layout cone partly in view
+  // where none lies is missed too; empty: unknown, plain view only.
+  std::vector<rig_model::ImageBox> orange_px;
 };
 
 // "" when the frame can be fused (finite stamp and pixels, fx, fy > 0, symmetric positive definite
@@ -125,7 +129,7 @@ struct ConeFrameResult {
   double ambiguity_rival_chi2 = 0.0;
   int ambiguity_rival_id = -1;
   int ambiguity_screened = 0;
-  // Layout cones the own and the best rival's fitted poses put in plain view, unseen (EkfConfig::cone_miss_cost,
+  // Layout cones the own and the best rival's fitted poses miss (ConesMissedAt; EkfConfig::cone_miss_cost each,
   // included in the two statistics above).
   int ambiguity_own_missed = 0;
   int ambiguity_rival_missed = 0;
@@ -139,9 +143,9 @@ struct ConeFrameResult {
 double ConeFitCost(const StateVector& x0, const StateMatrix& P, const ConeGeometry& cone, const PinholeIntrinsics& K,
                    const ConeVector& z, const ConeMatrix& R, int iterations, StateVector* x_fit = nullptr);
 
-// How many layout cones, other than `seen`, the state x puts in plain view in the frame's image
-// (rig_model::InPlainView; silhouettes from the projected peak and base, tau times their distance wide).
-// 0 without an image size.
+// How many layout cones, other than `seen`, the state x puts in plain view in the frame's image, or partly in view
+// where it has no orange (rig_model::MissedInView; silhouettes from the projected peak and base, tau times their
+// distance wide). 0 without an image size.
 int ConesMissedAt(const StateVector& x, const ConeFrame& f, const std::vector<int>& seen);
 
 // A lower bound on ConeFitCost's J(x) at every x, hence on what it returns with iterations > 0: min(t2, the least

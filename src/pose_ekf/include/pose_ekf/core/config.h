@@ -106,8 +106,9 @@ struct EkfConfig {
   // prediction (which scores a cone 1.5 m away ~80 where the fit gives ~1). 0 = first order.
   int cone_ambiguity_iterations = 5;
   // Negative information in that test: a reading of the lone cone whose fitted pose puts another layout cone
-  // in plain view (rig_model/cone_view.h) where the frame has none costs this much more per such cone,
-  // -2 ln(1 - P_D) (README, "Negative information"). Needs the image size (ConeFrame::width_px); 0 = off.
+  // in plain view, or partly in view where the image has no orange (rig_model/cone_view.h), where the frame has
+  // none costs this much more per such cone, -2 ln(1 - P_D) (README, "Negative information"). Needs the image size
+  // (ConeFrame::width_px; the part view also ConeFrame::orange_px); 0 = off.
   double cone_miss_cost = 0.0;
   // Each fused cone's update is iterated (the iterated EKF: relinearised at the updated state) up to
   // this many more times, while the pixels the updated state predicts differ from the linearisation's
