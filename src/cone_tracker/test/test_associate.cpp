@@ -283,6 +283,34 @@ TEST(Associate, ThreeConesAgreeWithThePosePathCorrespondence) {
   }
 }
 
+// rig_sim's camera at 512x384 (undistorted pixels).
+CameraModel RigSim512() {
+  CameraModel cam;
+  cam.width_px = 512, cam.height_px = 384, cam.fx_px = 385, cam.fy_px = 388, cam.cx_px = 255.5, cam.cy_px = 191.5;
+  return cam;
+}
+
+// T_camera_cones of a camera at eye (in `cones`) turned by q_cones_camera, as rig_sim/ground_truth and pose_ekf/pose
+// give it.
+pose_math::Pose CameraAt(const Eigen::Vector3d& eye, const Eigen::Quaterniond& q_cones_camera) {
+  pose_math::Pose T;
+  const Eigen::Matrix3d R = q_cones_camera.toRotationMatrix().transpose();
+  T.q = pose_math::QuatFromRotation(R), T.t = -(R * eye);
+  return T;
+}
+
+// The association's prior as cone_tracker's node makes it from pose_ekf/pose (orientation q_pred, ROS covariance):
+// the filter's covariance plus 2 degrees and 5 cm.
+AssociationConfig RecordedPrior(const Eigen::Quaterniond& q_pred, const Eigen::Matrix<double, 6, 6>& cov_ros) {
+  AssociationConfig cfg;
+  cfg.prediction_cov = AssociationPrior(pose_math::Quat(q_pred.w(), q_pred.x(), q_pred.y(), q_pred.z()), cov_ros);
+  cfg.prediction_cov->diagonal() +=
+      (Eigen::Matrix<double, 6, 1>() << Eigen::Vector3d::Constant(std::pow(2.0 * M_PI / 180.0, 2)),
+       Eigen::Vector3d::Constant(0.05 * 0.05))
+          .finished();
+  return cfg;
+}
+
 // Negative information (AssociationConfig::miss_cost, rig_model/cone_view.h). rig_sim's look_away seed 8 at
 // 512x384, 12.833 s: the first frame after the 7 s outage, pose_ekf 0.29 m off with a position sigma of about
 // 0.5 m (its recorded pose and covariance), one cone in the image: the tall cone 1 near the right edge. Read as
@@ -292,28 +320,16 @@ TEST(Associate, ThreeConesAgreeWithThePosePathCorrespondence) {
 // detected) beside cone 1, cone 1's own reading pays the miss and is at worst ambiguous, never renamed.
 TEST(Associate, AConeAReadingPutsInPlainViewUnseenCostsThatReadingAMiss) {
   const auto layout = Asymmetric();
-  CameraModel cam;
-  cam.width_px = 512, cam.height_px = 384, cam.fx_px = 385, cam.fy_px = 388, cam.cx_px = 255.5, cam.cy_px = 191.5;
-  const auto pose = [](const Eigen::Vector3d& p, const Eigen::Quaterniond& q_cones_camera) {
-    pose_math::Pose T;  // T_camera_cones
-    const Eigen::Matrix3d R = q_cones_camera.toRotationMatrix().transpose();
-    T.q = pose_math::QuatFromRotation(R), T.t = -(R * p);
-    return T;
-  };
+  const CameraModel cam = RigSim512();
   const Eigen::Vector3d eye(-2.1401, -2.3350, 1.3767);
-  const pose_math::Pose truth = pose(eye, Eigen::Quaterniond(0.57329, -0.81781, -0.00050, 0.05031).normalized());
+  const pose_math::Pose truth = CameraAt(eye, Eigen::Quaterniond(0.57329, -0.81781, -0.00050, 0.05031).normalized());
   const Eigen::Vector3d pred_eye(-1.8812, -2.2713, 1.2700);
   const Eigen::Quaterniond q_pred = Eigen::Quaterniond(0.57342, -0.81771, 0.00361, 0.05030).normalized();
   Eigen::Matrix<double, 6, 6> cov_ros = Eigen::Matrix<double, 6, 6>::Zero();  // pose_ekf/pose's, rounded
   cov_ros.topLeftCorner<3, 3>() << 0.2884, 0.0452, 0.0187, 0.0452, 0.2723, -0.0380, 0.0187, -0.0380, 0.2126;
   cov_ros.bottomRightCorner<3, 3>() << 5.98e-6, 3.6e-7, 8.0e-7, 3.6e-7, 5.46e-6, 2.48e-6, 8.0e-7, 2.48e-6, 1.307e-5;
-  const pose_math::Pose pred = pose(pred_eye, q_pred);
-  AssociationConfig cfg;  // as cone_tracker's node: the filter's covariance plus 2 degrees and 5 cm
-  cfg.prediction_cov = AssociationPrior(pose_math::Quat(q_pred.w(), q_pred.x(), q_pred.y(), q_pred.z()), cov_ros);
-  cfg.prediction_cov->diagonal() +=
-      (Eigen::Matrix<double, 6, 1>() << Eigen::Vector3d::Constant(std::pow(2.0 * M_PI / 180.0, 2)),
-       Eigen::Vector3d::Constant(0.05 * 0.05))
-          .finished();
+  const pose_math::Pose pred = CameraAt(pred_eye, q_pred);
+  const AssociationConfig cfg = RecordedPrior(q_pred, cov_ros);
   // Cone `id`'s peak, mid and base as the camera T at `from` sees them (exactly).
   const auto seen = [&](const pose_math::Pose& T, const Eigen::Vector3d& from, int id) {
     const auto p = CorrectedModelPoints(layout[size_t(id)], from);
@@ -390,28 +406,16 @@ std::vector<rig_model::ImageBox> Slabs(const rig_model::ConeSilhouette& s) {
 // spot (an orange sign) takes the miss away again: ambiguous, never renamed.
 TEST(Associate, AReadingThatPutsAConePartlyInViewWhereNoOrangeIsCostsAMiss) {
   const auto layout = Asymmetric();
-  CameraModel cam;
-  cam.width_px = 512, cam.height_px = 384, cam.fx_px = 385, cam.fy_px = 388, cam.cx_px = 255.5, cam.cy_px = 191.5;
-  const auto pose = [](const Eigen::Vector3d& p, const Eigen::Quaterniond& q_cones_camera) {
-    pose_math::Pose T;  // T_camera_cones
-    const Eigen::Matrix3d R = q_cones_camera.toRotationMatrix().transpose();
-    T.q = pose_math::QuatFromRotation(R), T.t = -(R * p);
-    return T;
-  };
+  const CameraModel cam = RigSim512();
   const Eigen::Vector3d eye(-1.0780, -2.9265, 1.3758);
-  const pose_math::Pose truth = pose(eye, Eigen::Quaterniond(0.55786, -0.80518, -0.13912, 0.14533).normalized());
+  const pose_math::Pose truth = CameraAt(eye, Eigen::Quaterniond(0.55786, -0.80518, -0.13912, 0.14533).normalized());
   const Eigen::Quaterniond q_pred = Eigen::Quaterniond(0.55646, -0.80564, -0.13986, 0.14742).normalized();
-  const pose_math::Pose pred = pose(Eigen::Vector3d(-0.92748, -2.65288, 1.32011), q_pred);
+  const pose_math::Pose pred = CameraAt(Eigen::Vector3d(-0.92748, -2.65288, 1.32011), q_pred);
   Eigen::Matrix<double, 6, 6> cov_ros = Eigen::Matrix<double, 6, 6>::Zero();  // pose_ekf/pose's, rounded
   cov_ros.topLeftCorner<3, 3>() << 0.1545, 0.0081, 0.0076, 0.0081, 0.1725, -0.0078, 0.0076, -0.0078, 0.1297;
   cov_ros.bottomRightCorner<3, 3>() << 3.95e-6, 2.2e-7, 0.0, 2.2e-7, 3.99e-6, 7.8e-7, 0.0, 7.8e-7, 6.07e-6;
-  AssociationConfig cfg;  // as cone_tracker's node with rig_sim's configuration
-  cfg.prediction_cov = AssociationPrior(pose_math::Quat(q_pred.w(), q_pred.x(), q_pred.y(), q_pred.z()), cov_ros);
-  cfg.prediction_cov->diagonal() +=
-      (Eigen::Matrix<double, 6, 1>() << Eigen::Vector3d::Constant(std::pow(2.0 * M_PI / 180.0, 2)),
-       Eigen::Vector3d::Constant(0.05 * 0.05))
-          .finished();
-  cfg.miss_cost = 7.0;
+  AssociationConfig cfg = RecordedPrior(q_pred, cov_ros);
+  cfg.miss_cost = 7.0;  // rig_sim's association_miss_cost
   const auto silhouettes =
       LayoutSilhouettes(LayoutSeenFrom(layout), layout.size(), pose_math::RotationFromQuat(truth.q), eye, cam, 0.1);
   ASSERT_TRUE(silhouettes[1] && silhouettes[2]);

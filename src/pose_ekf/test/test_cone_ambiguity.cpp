@@ -104,6 +104,27 @@ TEST(ConeGates, AFarRivalIsFoundByTheIteratedFit) {
   EXPECT_EQ(r.ambiguity_screened, 1);  // ConeFitLowerBound ruled it out without fitting it
 }
 
+// rig_model's asymmetric.yaml, and rig_sim's camera at 512x384.
+std::vector<pose_ekf::ConeGeometry> AsymmetricLayout() {
+  std::vector<pose_ekf::ConeGeometry> layout(3);
+  layout[0].base_m = {1.00, 0.00, 0}, layout[1].base_m = {-0.40, 0.85, 0}, layout[2].base_m = {-0.60, -0.85, 0};
+  layout[2].height_m = 0.46;
+  return layout;
+}
+const pose_ekf::PinholeIntrinsics kRigSim512{385.0, 388.0, 255.5, 191.5};
+
+// The filter as a recording left it: pose_ekf/pose's pose and position covariance, with rig_sim's miss cost.
+EkfCore Recorded(const pose_math::Pose& T_cones_camera, const Eigen::Matrix3d& position_cov, double miss_cost) {
+  EkfConfig c = ConeSimConfig();
+  c.cone_miss_cost = miss_cost;
+  EkfCore ekf{c};
+  EXPECT_TRUE(ekf.Initialize(Camera(0.0, T_cones_camera, 0.0024, 0.01)));
+  pose_ekf::FilterState s = ekf.state();
+  s.P.block<3, 3>(pose_ekf::kP, pose_ekf::kP) = position_cov;
+  ekf.Restore(s);
+  return ekf;
+}
+
 // Negative information (EkfConfig::cone_miss_cost, rig_model/cone_view.h). rig_sim's look_away seed 8 at
 // 512x384, 12.833 s, the first frame after its 7 s outage: pose_ekf 0.29 m off (its recorded pose and position
 // covariance), the tall cone 1 alone near the right edge of the image. Read as the short cone 2, 0.7 m nearer and
@@ -111,10 +132,8 @@ TEST(ConeGates, AFarRivalIsFoundByTheIteratedFit) {
 // where the frame has no cone: with the cost of that miss the lone cone is fused. Without the image size (an
 // older tracker) there is no negative information.
 TEST(ConeGates, ARivalThatPutsAnUnseenConeInPlainViewPaysAMiss) {
-  std::vector<pose_ekf::ConeGeometry> layout(3);  // rig_model's asymmetric.yaml
-  layout[0].base_m = {1.00, 0.00, 0}, layout[1].base_m = {-0.40, 0.85, 0}, layout[2].base_m = {-0.60, -0.85, 0};
-  layout[2].height_m = 0.46;
-  const pose_ekf::PinholeIntrinsics K{385.0, 388.0, 255.5, 191.5};
+  const std::vector<pose_ekf::ConeGeometry> layout = AsymmetricLayout();
+  const pose_ekf::PinholeIntrinsics K = kRigSim512;
   pose_math::Pose truth, predicted;  // T_cones_camera
   truth.q = pose_math::Quat(0.57329, -0.81781, -0.00050, 0.05031).normalized(), truth.t = {-2.1401, -2.3350, 1.3767};
   predicted.q = pose_math::Quat(0.57342, -0.81771, 0.00361, 0.05030).normalized();
@@ -122,13 +141,7 @@ TEST(ConeGates, ARivalThatPutsAnUnseenConeInPlainViewPaysAMiss) {
   Eigen::Matrix3d position_cov;  // pose_ekf/pose's, rounded
   position_cov << 0.2884, 0.0452, 0.0187, 0.0452, 0.2723, -0.0380, 0.0187, -0.0380, 0.2126;
   const auto run = [&](double miss_cost, bool image_size, ConeFrameResult* r) {
-    EkfConfig c = ConeSimConfig();
-    c.cone_miss_cost = miss_cost;
-    EkfCore ekf{c};
-    EXPECT_TRUE(ekf.Initialize(Camera(0.0, predicted, 0.0024, 0.01)));
-    pose_ekf::FilterState s = ekf.state();
-    s.P.block<3, 3>(pose_ekf::kP, pose_ekf::kP) = position_cov;
-    ekf.Restore(s);
+    EkfCore ekf = Recorded(predicted, position_cov, miss_cost);
     std::mt19937 rng(11);
     ConeFrame f = ObserveCones(0.0, truth, layout, {1}, K, 0.3, &rng);
     f.layout = layout;
@@ -174,10 +187,8 @@ TEST(ConeGates, ARivalThatPutsAnUnseenConeInPlainViewPaysAMiss) {
 // edge: not in plain view, no miss, not fused. The frame's orange regions (cones 1 and 2 as they are, in four bands
 // of rows each as cone_tracker reports them) show none there: that reading pays a miss and the cone is fused.
 TEST(ConeGates, ARivalThatPutsAnUnseenConePartlyInViewWhereNoOrangeIsPaysAMiss) {
-  std::vector<pose_ekf::ConeGeometry> layout(3);  // rig_model's asymmetric.yaml
-  layout[0].base_m = {1.00, 0.00, 0}, layout[1].base_m = {-0.40, 0.85, 0}, layout[2].base_m = {-0.60, -0.85, 0};
-  layout[2].height_m = 0.46;
-  const pose_ekf::PinholeIntrinsics K{385.0, 388.0, 255.5, 191.5};
+  const std::vector<pose_ekf::ConeGeometry> layout = AsymmetricLayout();
+  const pose_ekf::PinholeIntrinsics K = kRigSim512;
   pose_math::Pose truth, predicted;  // T_cones_camera
   truth.q = pose_math::Quat(0.55786, -0.80518, -0.13912, 0.14533).normalized(), truth.t = {-1.0780, -2.9265, 1.3758};
   predicted.q = pose_math::Quat(0.55646, -0.80564, -0.13986, 0.14742).normalized();
@@ -198,13 +209,7 @@ TEST(ConeGates, ARivalThatPutsAnUnseenConePartlyInViewWhereNoOrangeIsPaysAMiss) 
                                                 (i + 1) / 4.0 * layout[size_t(k)].tau * axis.norm()));
   }
   const auto run = [&](bool with_orange, ConeFrameResult* r) {
-    EkfConfig c = ConeSimConfig();
-    c.cone_miss_cost = 7.0;  // pose_ekf_rig_sim.yaml's
-    EkfCore ekf{c};
-    EXPECT_TRUE(ekf.Initialize(Camera(0.0, predicted, 0.0024, 0.01)));
-    pose_ekf::FilterState s = ekf.state();
-    s.P.block<3, 3>(pose_ekf::kP, pose_ekf::kP) = position_cov;
-    ekf.Restore(s);
+    EkfCore ekf = Recorded(predicted, position_cov, 7.0);  // pose_ekf_rig_sim.yaml's cone_miss_cost
     // Cone 1 as the truth projects it (undistorted, its peak beyond u = 511 where ObserveCones would drop it).
     ConeFrame f;
     f.K = K, f.layout = layout, f.width_px = 512, f.height_px = 384;
