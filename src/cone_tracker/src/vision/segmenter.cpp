@@ -415,7 +415,8 @@ std::vector<rig_model::ImageBox> OrangeRegions(const std::vector<ConeDetection>&
                                {b.u_max, b.v_max}, {um, b.v_max}, {b.u_min, b.v_max}, {b.u_min, vm}})
       pts.emplace_back(u, v);
   }
-  if (!UndistortPixels(camera, &pts)) return boxes;  // a lens that does not invert: the raw boxes, near enough
+  // A hundredth of a pixel is plenty for boxes the association samples (and takes a few iterations, not 1e-7's).
+  if (!UndistortPixels(camera, &pts, 1e-2)) return boxes;  // a lens that does not invert: the raw boxes, near enough
   for (size_t i = 0; i < boxes.size(); ++i) {
     rig_model::ImageBox& b = boxes[i];
     b = {INFINITY, INFINITY, -INFINITY, -INFINITY};
@@ -427,7 +428,7 @@ std::vector<rig_model::ImageBox> OrangeRegions(const std::vector<ConeDetection>&
   return boxes;
 }
 
-bool UndistortPixels(const CameraModel& camera, std::vector<Eigen::Vector2d>* points) {
+bool UndistortPixels(const CameraModel& camera, std::vector<Eigen::Vector2d>* points, double tolerance_px) {
   if (!camera.HasDistortion() || !(camera.fx_px > 0.0) || !(camera.fy_px > 0.0)) return true;
   const cv::Matx33d K(camera.fx_px, 0, camera.cx_px, 0, camera.fy_px, camera.cy_px, 0, 0, 1);
   std::vector<cv::Point2d> src, dst;
@@ -435,11 +436,11 @@ bool UndistortPixels(const CameraModel& camera, std::vector<Eigen::Vector2d>* po
   try {
     // (3.11) iteratively: OpenCV's default of 5 iterations leaves tenths of a
     // pixel at the corners with this lens. EPS is the reprojection error in
-    // pixels: 1e-7 px keeps the distort/undistort round trip within 1e-6 px
-    // (test_refinement.cpp) for fewer iterations than the 1e-10 it had, on
-    // every outline point of every frame.
+    // pixels: the default 1e-7 px keeps the distort/undistort round trip within
+    // 1e-6 px (test_refinement.cpp) for fewer iterations than the 1e-10 it had,
+    // on every outline point of every frame.
     cv::undistortPoints(src, dst, K, camera.distortion, cv::noArray(), K,
-                        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 1e-7));
+                        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, tolerance_px));
   } catch (const cv::Exception&) {
     return false;
   }

@@ -197,7 +197,8 @@ class Segmenter {
 // SegmentationResult::orange_undist_px of these detections (their blobs' runs not yet cleared).
 std::vector<rig_model::ImageBox> OrangeRegions(const std::vector<ConeDetection>& dets, const CameraModel& camera);
 
-// Undistorts pixel points in place to ideal pinhole pixels with the same K (3.1.2).
-bool UndistortPixels(const CameraModel& camera, std::vector<Eigen::Vector2d>* points_px);
+// Undistorts pixel points in place to ideal pinhole pixels with the same K (3.1.2), iterating until the
+// reprojection error is below tolerance_px (or 30 iterations).
+bool UndistortPixels(const CameraModel& camera, std::vector<Eigen::Vector2d>* points_px, double tolerance_px = 1e-7);
 
 }  // namespace cone_tracker
