@@ -10,9 +10,9 @@
 #include "cone_tracker/node/tracker_adapter.h"
 #include "cone_tracker/testing/vision_frames.h"
 #include "nodelet_test_util.h"
-#include "rig_model/ros/conversions.h"
 #include "pose_math/covariance.h"
 #include "pose_math/rotation.h"
+#include "rig_model/ros/conversions.h"
 
 namespace cone_tracker {
 namespace {

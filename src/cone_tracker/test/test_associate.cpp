@@ -440,10 +440,11 @@ TEST(Associate, AReadingThatPutsAConePartlyInViewWhereNoOrangeIsCostsAMiss) {
   const AssociationResult sign = associate(orange);
   EXPECT_EQ(sign.cone_of_detection, (std::vector<int>{-1}));
   EXPECT_EQ(sign.ambiguous, 1);
-  std::printf("[ miss ] look_away seed 69, 12.867 s: cone 1 alone, plain view only %s, with the orange cone %d, with "
-              "a sign above it %s\n",
-              plain.ambiguous ? "ambiguous" : "associated", with.cone_of_detection[0],
-              sign.ambiguous ? "ambiguous" : "associated");
+  std::printf(
+      "[ miss ] look_away seed 69, 12.867 s: cone 1 alone, plain view only %s, with the orange cone %d, with "
+      "a sign above it %s\n",
+      plain.ambiguous ? "ambiguous" : "associated", with.cone_of_detection[0],
+      sign.ambiguous ? "ambiguous" : "associated");
 }
 
 TEST(PointCovariances, IsotropicButThePeakAlongTheAxis) {

@@ -99,7 +99,7 @@ TEST(Blobs, RowSlabsTileTheRowsAndFollowTheWidening) {
     EXPECT_DOUBLE_EQ(slabs[i].v_max, 19.5 + 10.0 * double(i));
   }
   EXPECT_LT(slabs[0].u_max - slabs[0].u_min, 8.0);  // the tip: rows 10-19, up to 6 px wide
-  EXPECT_EQ(slabs[2].u_min, slabs[3].u_min);  // rows 30-39 are all collar: the band below's columns
+  EXPECT_EQ(slabs[2].u_min, slabs[3].u_min);        // rows 30-39 are all collar: the band below's columns
   EXPECT_EQ(slabs[2].u_max, slabs[3].u_max);
   EXPECT_GT(slabs[3].u_max - slabs[3].u_min, 20.0);  // the base
   // Fewer rows than bands: one band per row; no runs, no bands.

@@ -131,7 +131,8 @@ TEST_F(CutCone, ConeCutBeyondItsTipZoneFailsTheBorderGate) {
   const Eigen::Vector2d base = top->base_px - Eigen::Vector2d(0.0, first);
   for (const ConeDetection& d : r.cones) EXPECT_GT((d.base_px - base).norm(), 4.0) << "the cut cone was accepted";
   bool refused = false;
-  for (const ConeDetection& d : r.rejected) refused |= (d.base_px - base).norm() < 4.0 && (d.failed_gates & kGateBorder);
+  for (const ConeDetection& d : r.rejected)
+    refused |= (d.base_px - base).norm() < 4.0 && (d.failed_gates & kGateBorder);
   EXPECT_TRUE(refused);
 }
 
@@ -143,7 +144,8 @@ TEST_F(CutCone, ConeWhoseBaseIsCutFailsTheBorderGate) {
     Segmenter seg{SegmenterConfig()};
     const SegmentationResult r = seg.Process(Cropped(frame_, rows), frame_.camera);
     ASSERT_TRUE(r.ok) << r.error;
-    EXPECT_EQ(Near(r.cones, lowest_->peak_px), nullptr) << "the cone cut " << above << " px above its base was accepted";
+    EXPECT_EQ(Near(r.cones, lowest_->peak_px), nullptr)
+        << "the cone cut " << above << " px above its base was accepted";
     const ConeDetection* refused = Near(r.rejected, lowest_->peak_px);
     ASSERT_NE(refused, nullptr);
     EXPECT_TRUE(refused->failed_gates & kGateBorder);

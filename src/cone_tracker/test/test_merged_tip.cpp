@@ -49,8 +49,7 @@ TEST(MergedTip, NearConesTipInFrontOfAFarConeGoesBackToIt) {
         // The eye's height that puts the near tip on the far base when offset_m is 0, plus dz_m.
         const double eye_z = height_m * (near_m + apart_m) / apart_m + dz_m;
         const Eigen::Vector3d eye = a + near_m * along + offset_m * across + Eigen::Vector3d(0, 0, eye_z);
-        const SimFrame f =
-            RenderSim(scene, LookAt(eye, 0.5 * (a + b) + Eigen::Vector3d(0, 0, 0.3)), camera);
+        const SimFrame f = RenderSim(scene, LookAt(eye, 0.5 * (a + b) + Eigen::Vector3d(0, 0, 0.3)), camera);
         const SegmentationResult r_on = on.Process(View(f), f.camera), r_off = off.Process(View(f), f.camera);
         ASSERT_TRUE(r_on.ok && r_off.ok);
         const bool near_off = Found(r_off.cones, f.truth[0], 1.5) != nullptr;
@@ -83,8 +82,8 @@ TEST(MergedTip, FindTipInKeepsThePixelsBetweenTheEdges) {
   // A cone with its apex at (50, 0) and its edges x = 50 -+ 0.25 y, through (40, 40) and (60, 40).
   OutlineFit fit;
   fit.apex_undist_px = Eigen::Vector2d(50, 0);
-  fit.left_line = Eigen::Vector3d(40, 10, -2000);    // 40 x + 10 y - 2000 = 0 through (50, 0), (40, 40); + inside
-  fit.right_line = Eigen::Vector3d(-40, 10, 2000);   // through (50, 0), (60, 40); + inside
+  fit.left_line = Eigen::Vector3d(40, 10, -2000);   // 40 x + 10 y - 2000 = 0 through (50, 0), (40, 40); + inside
+  fit.right_line = Eigen::Vector3d(-40, 10, 2000);  // through (50, 0), (60, 40); + inside
   // The other blob: rows 2..20, from the left edge's pixel to x = 80 (a far cone's body to the right).
   std::vector<cone_tracker::Run> other;
   for (int y = 2; y <= 20; ++y) other.push_back({y, int(std::ceil(50.0 - 0.25 * y)), 80});

@@ -219,9 +219,10 @@ TEST(ConeGates, ARivalThatPutsAnUnseenConePartlyInViewWhereNoOrangeIsPaysAMiss) 
     for (Eigen::Matrix2d& c : f.cones[0].cov_px2) c = Eigen::Matrix2d::Identity();
     if (with_orange) f.orange_px = orange;
     const UpdateResult u = ekf.UpdateCones(f, r);
-    std::printf("[ cones ] look_away seed 69, 12.867 s%s: own %.2f (%d missed), rival %.2f (cone %d, %d missed) -> %s\n",
-                with_orange ? ", orange regions" : ", plain view only", r->ambiguity_own_chi2, r->ambiguity_own_missed,
-                r->ambiguity_rival_chi2, r->ambiguity_rival_id, r->ambiguity_rival_missed, ToString(u));
+    std::printf(
+        "[ cones ] look_away seed 69, 12.867 s%s: own %.2f (%d missed), rival %.2f (cone %d, %d missed) -> %s\n",
+        with_orange ? ", orange regions" : ", plain view only", r->ambiguity_own_chi2, r->ambiguity_own_missed,
+        r->ambiguity_rival_chi2, r->ambiguity_rival_id, r->ambiguity_rival_missed, ToString(u));
     return u;
   };
   ConeFrameResult r;

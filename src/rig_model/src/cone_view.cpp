@@ -72,7 +72,8 @@ int MissedInView(const std::vector<std::optional<ConeSilhouette>>& silhouettes, 
       ++missed;
     } else if (!orange.empty()) {
       double visible_px2 = 0.0;
-      const double share = OrangeShareInView(*silhouettes[k], orange, width_px, height_px, rule.margin_px, &visible_px2);
+      const double share =
+          OrangeShareInView(*silhouettes[k], orange, width_px, height_px, rule.margin_px, &visible_px2);
       missed += visible_px2 >= rule.part_min_area_px2 && share < rule.part_max_orange_frac;
     }
   }

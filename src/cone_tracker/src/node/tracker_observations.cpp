@@ -61,9 +61,8 @@ void TrackerAdapter::FillObservations(const sensor_msgs::Image& im, const std::o
     }
     CameraModel pinhole = camera_;  // the detections are undistorted (3.1.2)
     pinhole.distortion.clear();
-    r->association =
-        AssociateCones(points, cov, layout_.size(), LayoutSeenFrom(layout_), pinhole, pose_math::Invert(*pred), a,
-                       r->segmentation.orange_undist_px);
+    r->association = AssociateCones(points, cov, layout_.size(), LayoutSeenFrom(layout_), pinhole,
+                                    pose_math::Invert(*pred), a, r->segmentation.orange_undist_px);
     counters_.association_ambiguous += uint64_t(r->association.ambiguous);
     counters_.association_conflicts += r->association.conflict;
   }

@@ -74,14 +74,14 @@ std::vector<std::optional<rig_model::ConeSilhouette>> LayoutSilhouettes(const Mo
                                                                         const Eigen::Matrix3d& R_camera_cones,
                                                                         const Eigen::Vector3d& eye,
                                                                         const CameraModel& cam, double min_depth_m) {
-  std::vector<std::optional<rig_model::ConeSilhouette>> boxes(num_cones);
+  std::vector<std::optional<rig_model::ConeSilhouette>> silhouettes(num_cones);
   for (size_t k = 0; k < num_cones; ++k) {
     const ConePoints3d p = model(k, eye);
     const Eigen::Vector3d peak = R_camera_cones * (p[0] - eye), base = R_camera_cones * (p[2] - eye);
     if (!(peak.z() > min_depth_m && base.z() > min_depth_m)) continue;
-    boxes[k] = Silhouette(p, Pinhole(cam, peak), Pinhole(cam, base), base.z(), cam);
+    silhouettes[k] = Silhouette(p, Pinhole(cam, peak), Pinhole(cam, base), base.z(), cam);
   }
-  return boxes;
+  return silhouettes;
 }
 
 std::string AssociationConfig::Validate() const {

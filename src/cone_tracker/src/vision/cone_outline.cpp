@@ -197,8 +197,7 @@ OutlineFit FitConeOutline(const std::vector<Run>& runs, const Eigen::Vector2d& p
   const double along = ((apex - peak0).dot(dir0) - tip) / raw_px,
                lateral = std::abs((apex - peak0).dot(Eigen::Vector2d(dir0.y(), -dir0.x()))) / raw_px;
   out.left_line = l1, out.right_line = l2, out.apex_undist_px = apex, out.tip_short_px = -along;
-  if (along > 1.5 || along < -out.tip_zone_px ||
-      lateral > 3.0 + config.max_apex_gap_frac * h0 / raw_px)
+  if (along > 1.5 || along < -out.tip_zone_px || lateral > 3.0 + config.max_apex_gap_frac * h0 / raw_px)
     return out.why = "apex does not fit the tip", out;
   // The axis: the mirror plane's image is the bisector of the edges as unit
   // 3-vectors in normalised coordinates (l_n = K^T l), mapped back (K^-T).

@@ -32,7 +32,8 @@ bool MakeTipWedge(const OutlineFit& fit, const Eigen::Vector2d& d, double top_t,
   if (!(top_t > 0.0) || !DistortPixels(camera, &corners)) return false;
   double x_lo = INFINITY, x_hi = -INFINITY, y_lo = INFINITY, y_hi = -INFINITY;
   for (const Eigen::Vector2d& c : corners)
-    x_lo = std::min(x_lo, c.x()), x_hi = std::max(x_hi, c.x()), y_lo = std::min(y_lo, c.y()), y_hi = std::max(y_hi, c.y());
+    x_lo = std::min(x_lo, c.x()), x_hi = std::max(x_hi, c.x()), y_lo = std::min(y_lo, c.y()),
+    y_hi = std::max(y_hi, c.y());
   w->apex_undist_px = apex, w->axis_dir = d, w->left_line = fit.left_line, w->right_line = fit.right_line;
   w->top_t_px = top_t;
   w->x0 = int(std::floor(x_lo)) - 2, w->x1 = int(std::ceil(x_hi)) + 2;
@@ -88,8 +89,10 @@ TipPiece FindTipIn(const std::vector<Run>& other, const TipWedge& w, const Camer
       if (t > base_t) base_t = t, out.base_end_px = Eigen::Vector2d(x, r.y);
     }
     if (claim0 > r.x0) out.rest.push_back({r.y, r.x0, claim0 - 1});
-    if (claim0 < 0) out.rest.push_back(r);
-    else if (claim1 < r.x1) out.rest.push_back({r.y, claim1 + 1, r.x1});
+    if (claim0 < 0)
+      out.rest.push_back(r);
+    else if (claim1 < r.x1)
+      out.rest.push_back({r.y, claim1 + 1, r.x1});
     if (tip0 < 0) continue;
     out.tip.push_back({r.y, tip0, tip1});
     auto& e = row_edges[r.y];
@@ -152,9 +155,10 @@ void Segmenter::SplitMergedTips(std::vector<ConeDetection>* dets, const std::vec
       emptied[j] = piece.rest.empty();
       if (!emptied[j]) {
         std::vector<uint8_t> behind(mask.data, mask.data + size_t(mask.height) * size_t(mask.step));
-        for (const Run& r : whole.blob.runs) std::fill_n(behind.begin() + long(r.y) * mask.step + r.x0, r.x1 - r.x0 + 1, 0);
-        (*dets)[j] = Judge(BlobOfRuns(std::move(piece.rest)), MaskView{behind.data(), mask.width, mask.height, mask.step},
-                           camera);
+        for (const Run& r : whole.blob.runs)
+          std::fill_n(behind.begin() + long(r.y) * mask.step + r.x0, r.x1 - r.x0 + 1, 0);
+        (*dets)[j] = Judge(BlobOfRuns(std::move(piece.rest)),
+                           MaskView{behind.data(), mask.width, mask.height, mask.step}, camera);
       }
       (*dets)[i] = std::move(whole);
       break;

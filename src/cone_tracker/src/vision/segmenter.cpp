@@ -411,8 +411,14 @@ std::vector<rig_model::ImageBox> OrangeRegions(const std::vector<ConeDetection>&
   std::vector<Eigen::Vector2d> pts;
   for (const rig_model::ImageBox& b : boxes) {
     const double um = 0.5 * (b.u_min + b.u_max), vm = 0.5 * (b.v_min + b.v_max);
-    for (const auto& [u, v] : {std::pair{b.u_min, b.v_min}, {um, b.v_min}, {b.u_max, b.v_min}, {b.u_max, vm},
-                               {b.u_max, b.v_max}, {um, b.v_max}, {b.u_min, b.v_max}, {b.u_min, vm}})
+    for (const auto& [u, v] : {std::pair{b.u_min, b.v_min},
+                               {um, b.v_min},
+                               {b.u_max, b.v_min},
+                               {b.u_max, vm},
+                               {b.u_max, b.v_max},
+                               {um, b.v_max},
+                               {b.u_min, b.v_max},
+                               {b.u_min, vm}})
       pts.emplace_back(u, v);
   }
   // A hundredth of a pixel is plenty for boxes the association samples (and takes a few iterations, not 1e-7's).

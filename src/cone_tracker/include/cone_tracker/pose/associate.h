@@ -55,8 +55,8 @@ struct AssociationConfig {
   size_t max_assignments = 200000;  // enumeration bound; beyond it nothing is associated
   // Negative information: an assignment whose fitted pose puts a layout cone it leaves unmatched in plain
   // view, or partly in view where the image has no orange (rig_model/cone_view.h), costs this much more per such
-  // cone, -2 ln(1 - P_D); 0: off. Below the
-  // ambiguity margin, a miss alone never makes a wrong cone win: it can only make a detection ambiguous.
+  // cone, -2 ln(1 - P_D); 0: off. Below the ambiguity margin, a miss alone never makes a wrong cone win: it can
+  // only make a detection ambiguous.
   double miss_cost = 0.0;
   rig_model::PlainViewRule plain_view;
   std::string Validate() const;

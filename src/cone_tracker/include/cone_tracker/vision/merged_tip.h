@@ -21,8 +21,8 @@ struct TipPiece {
   std::vector<Run> rest;  // the other blob's pixels outside the cone (its mixed edge pixels are in neither)
   int rows = 0;           // rows of `tip`
   // Rows where the tip ends on one of the edge lines against the background (the other blob's run ends there, inside
-  // the image, and its outer pixel boundary is within edge_px of the line); the larger count of the two sides. A tip in front of a
-  // cone's body shows at least one of its edges over its length; orange that only fills the wedge does not.
+  // the image, and its outer pixel boundary is within edge_px of the line); the larger count of the two sides. A tip in
+  // front of a cone's body shows at least one of its edges over its length; orange that only fills the wedge does not.
   int edge_rows = 0;
   Eigen::Vector2d base_end_px = Eigen::Vector2d::Zero();  // the tip's pixel nearest the near cone's base (raw)
 };

@@ -1,8 +1,8 @@
 // Messages <-> the rig's core types, written once: poses (pose_math, thesis quaternion order
 // [q0 qx qy qz]) to and from geometry_msgs Pose / Transform / PoseWithCovariance(Stamped), the
 // camera-IMU extrinsics to and from a TransformStamped, rig_model::CameraModel to and from
-// sensor_msgs/CameraInfo, and image boxes to and from sensor_msgs/RegionOfInterest. Covariances in messages are ROS's 6x6 (x y z rx ry rz), row-major;
-// pose_math owns the map to and from the thesis's constrained 7x7 (5.6.4).
+// sensor_msgs/CameraInfo, and image boxes to and from sensor_msgs/RegionOfInterest. Covariances in messages are ROS's
+// 6x6 (x y z rx ry rz), row-major; pose_math owns the map to and from the thesis's constrained 7x7 (5.6.4).
 #pragma once
 
 #include <string>
