@@ -36,8 +36,8 @@ namespace cone_tracker {
 // The values are dynamic_reconfigure's (cfg/ConeTracker.cfg, peak_refinement).
 enum class PeakRefinement { kOutline = 0, kTemplates = 1, kNone = 2 };
 constexpr int kPeakRefinements = 3;
-// Boxes per blob in SegmentationResult::orange_undist_px: a cone's triangle in four bands of rows leaves an eighth of
-// the boxes' area empty (a single box: half).
+// Boxes per blob in SegmentationResult::orange_undist_px: around a cone's triangle, four bands of rows hold empty
+// pixels over an eighth of its bounding box's area (a single box: half).
 constexpr int kOrangeSlabs = 4;
 
 // "outline", "templates", "none": the parameter's names for the values.
