@@ -71,6 +71,14 @@ int MissedInView(const std::vector<std::optional<ConeSilhouette>>& silhouettes, 
     if (plain[k]) {
       ++missed;
     } else if (!orange.empty()) {
+      // The visible triangle lies (near enough: an upright one exactly) in the visible part of its box: a cone wholly
+      // outside the image, or too little in it, is not sampled. A large layout's association asks this of every cone
+      // for every assignment; the shortcut can only leave out a miss, never add one.
+      const ImageBox& box = *boxes[k];
+      const double m = rule.margin_px;
+      const double du = std::min(box.u_max, width_px - 1.0 - m) - std::max(box.u_min, m);
+      const double dv = std::min(box.v_max, height_px - 1.0 - m) - std::max(box.v_min, m);
+      if (!(du > 0.0 && dv > 0.0 && du * dv >= rule.part_min_area_px2)) continue;
       double visible_px2 = 0.0;
       const double share =
           OrangeShareInView(*silhouettes[k], orange, width_px, height_px, rule.margin_px, &visible_px2);
