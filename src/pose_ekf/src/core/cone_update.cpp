@@ -316,6 +316,7 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
   // 1. Per cone against the prior: the image-space gate of 6.4.1, on the filter's own S.
   std::vector<int> candidates;
   std::vector<double> d2(f.cones.size(), 0.0);
+  std::vector<bool> by_fit(f.cones.size(), false);  // judged by the fit, not the first-order statistic
   ConeVector h;
   ConeJacobian H;
   for (size_t i = 0; i < f.cones.size(); ++i) {
@@ -333,13 +334,16 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
       continue;
     }
     d2[i] = y.dot(ldlt.solve(y));
+    // After a long outage the prior is decimetres off, and yᵀ S⁻¹ y, first order at it, also counts the
+    // projection's curvature over that shift: a cone beyond the gate at first order is judged by its fit
+    // instead (ConeFitCost, the iterated update's cost on the prior; README, "Re-acquisition").
+    if (d2[i] > cone_gate_chi2_ && config_.cone_ambiguity_iterations > 0) {
+      d2[i] = ConeFitCost(prior.x, prior.P, o.cone, f.K, ConePixels(o), ConeCovariance(o),
+                          config_.cone_ambiguity_iterations);
+      by_fit[i] = true;
+    }
     res.worst_gate_chi2 = std::max(res.worst_gate_chi2, d2[i]);
-    // Re-acquiring (min_cones > 1), the prior is metres off and yᵀ S⁻¹ y, first order at it, also
-    // counts the projection's curvature over that shift: the cone is judged by its fit instead
-    // (ConeFitCost, the iterated update's cost on the prior; README, "Re-acquisition").
-    if (d2[i] > cone_gate_chi2_ && !(min_cones > 1 && config_.cone_ambiguity_iterations > 0 &&
-                                     ConeFitCost(prior.x, prior.P, o.cone, f.K, ConePixels(o), ConeCovariance(o),
-                                                 config_.cone_ambiguity_iterations) <= cone_gate_chi2_)) {
+    if (d2[i] > cone_gate_chi2_) {
       ++res.gated;
       continue;
     }
@@ -417,11 +421,19 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
     double nis_sum = 0.0;
     int failed = -1;
     for (int i : candidates) {
+      const ConeObservation& o = f.cones[static_cast<size_t>(i)];
+      // A cone judged by its fit at its gate adds its fit's statistic, from where its update starts (the previous
+      // cones' correction), to the frame's: the first-order one would count the curvature again.
+      std::optional<FilterState> from;
+      if (by_fit[static_cast<size_t>(i)]) from = s_;
       double nis = 0.0;
-      if (UpdateCone(f.cones[static_cast<size_t>(i)], f.K, &nis) != UpdateResult::kApplied) {
+      if (UpdateCone(o, f.K, &nis) != UpdateResult::kApplied) {
         failed = i;
         break;
       }
+      if (from)
+        nis = std::min(nis, ConeFitCost(from->x, from->P, o.cone, f.K, ConePixels(o), ConeCovariance(o),
+                                        config_.cone_ambiguity_iterations));
       nis_sum += nis;
     }
     const int k = static_cast<int>(candidates.size());

@@ -309,7 +309,7 @@ void PoseEkfNodelet::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   stat.add("cones rejected (chi2 gate)", c.cones_gated);
   stat.add("cones dropped (joint chi2 check of their frame)", c.cones_joint_dropped);
   stat.add("cones behind the predicted camera", c.cones_behind_camera);
-  stat.add("cone chi2 gate threshold (6 dof)", adapter_->buffer().filter().cone_gate_chi2());
+  stat.add("cone chi2 gate threshold (4 dof)", adapter_->buffer().filter().cone_gate_chi2());
   stat.add("cone chi2 of the last rejection", c.cone_last_rejected_chi2);
   stat.add("cone NIS last (frame)", c.cone_nis_last);
   stat.add("cone NIS mean (frame)", c.cone_nis_count ? c.cone_nis_sum / c.cone_nis_count : 0.0);
