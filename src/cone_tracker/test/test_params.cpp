@@ -59,6 +59,7 @@ const std::set<std::string> kLoadConfigNames = {"layout_file",
                                                 "peak_refinement",
                                                 "reject_bad_outline",
                                                 "split_merged_tips",
+                                                "read_collars",
                                                 "template_search_px",
                                                 "outline_outlier_px",
                                                 "outline_max_edge_rms_px",
@@ -98,7 +99,7 @@ TEST(NodeParams, ReconfigureRoundTripIsTheIdentity) {
   s.cut_cone_contrast = 25;
   s.min_axis_ratio = 1.1, s.max_axis_ratio = 6.5, s.max_tilt_deg = 40.0, s.merge_lateral_frac = 0.3;
   s.merge_gap_frac = 0.7, s.peak_refinement = int(PeakRefinement::kTemplates), s.reject_bad_outline = false;
-  s.split_merged_tips = false;
+  s.split_merged_tips = false, s.read_collars = false;
   c.pose.sigma_px = 1.5, c.pose.max_assignment_px = 25.0, c.pose.chi2_probability = 0.99;
   c.pose.max_translation_change_m = 0.4, c.pose.max_rotation_change_deg = 20.0;
   c.debug = DebugImageConfig{false, false, false};
@@ -119,7 +120,7 @@ TEST(NodeParams, ReconfigureRoundTripIsTheIdentity) {
     EXPECT_NE(NodeParams().Get(NodeConfig(), name), NodeParams().Get(c, name)) << name << " left at its default";
     ++compared;
   });
-  EXPECT_EQ(compared, 28);  // every parameter of cfg/ConeTracker.cfg
+  EXPECT_EQ(compared, 29);  // every parameter of cfg/ConeTracker.cfg
 }
 
 TEST(NodeParams, YamlReadsTheSameNamesStrictly) {

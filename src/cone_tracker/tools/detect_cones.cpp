@@ -1,4 +1,4 @@
-// detect_cones --config FILE|photos --output out.jsonl IMAGE...
+// detect_cones --config FILE|photos [--layout FILE] --output out.jsonl IMAGE...
 // Runs the segmentation on image files and writes one JSON line per image:
 // {"image":path, "cones":[{"bbox":[x,y,w,h], "peak":[u,v], "mid":[u,v],
 // "base":[u,v], "area":a, "solidity":s, "score":p, "points":"colour"|"box"}, ...],
@@ -6,7 +6,8 @@
 // (or "error"). score: the learned detector's (detector: dnn), 1 for colour
 // detections; points: where peak/mid/base came from (vision/cone_detector.h);
 // ms: the detection's wall time. For tuning the thresholds on one's own photos;
-// no camera calibration (no undistortion). Prints the median and mean time at the end.
+// no camera calibration (no undistortion). --layout: the layout's collars, for reading cones cut by the image's edge
+// (vision/collar_ruler.h; "by_collars": true on such a cone). Prints the median and mean time at the end.
 // Exit status 1 when any image could not be read or segmented (one stderr line
 // each, naming the file), 2 for bad arguments or config.
 #include <algorithm>
@@ -27,6 +28,7 @@
 
 #include "cone_tracker/node/params.h"
 #include "cone_tracker/vision/cone_detector.h"
+#include "cone_tracker/vision/cone_pose.h"
 #include "rig_model/strict_yaml.h"
 
 namespace {
@@ -36,19 +38,21 @@ nlohmann::json Uv(const Eigen::Vector2d& p) { return {p.x(), p.y()}; }
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string config_path, output;
+  std::string config_path, layout_path, output;
   std::vector<std::string> images;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--config" && i + 1 < argc)
       config_path = argv[++i];
+    else if (a == "--layout" && i + 1 < argc)
+      layout_path = argv[++i];
     else if (a == "--output" && i + 1 < argc)
       output = argv[++i];
     else
       images.push_back(a);
   }
   if (output.empty() || images.empty()) {
-    std::fprintf(stderr, "usage: detect_cones [--config FILE|photos] --output out.jsonl IMAGE...\n");
+    std::fprintf(stderr, "usage: detect_cones [--config FILE|photos] [--layout FILE] --output out.jsonl IMAGE...\n");
     return 2;
   }
   if (config_path == "photos") config_path = std::string(CONE_TRACKER_CONFIG_DIR) + "/photos.yaml";
@@ -56,8 +60,11 @@ int main(int argc, char** argv) {
   cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
   std::unique_ptr<cone_tracker::ConeDetector> seg;  // built once: the colour table takes ~0.1 s
   try {
-    const cone_tracker::NodeConfig c =
+    cone_tracker::NodeConfig c =
         config_path.empty() ? cone_tracker::NodeConfig() : cone_tracker::LoadConfigFile(config_path);
+    if (!layout_path.empty())
+      c.segmenter.collar.collars =
+          cone_tracker::CommonCollars(cone_tracker::ConeModels(rig_model::LoadLayoutFile(layout_path)));
     seg = std::make_unique<cone_tracker::ConeDetector>(c.segmenter, c.detector);
   } catch (const rig_model::FileError& e) {  // names the file, line and key
     std::fprintf(stderr, "detect_cones: %s\n", e.what());
@@ -105,6 +112,7 @@ int main(int argc, char** argv) {
                                  {"solidity", b.solidity},
                                  {"score", dr.scores[i]},
                                  {"points", dr.points_from_colour[i] ? "colour" : "box"}});
+        if (d.by_collars) line["cones"].back()["by_collars"] = true;
       }
       line["rejected"] = nlohmann::json::array();
       for (const auto& d : r.rejected) {

@@ -68,6 +68,7 @@ Table MakeTable() {
           "peak_refinement", [](NodeConfig& c) -> int& { return c.segmenter.peak_refinement; }, PeakRefinementNames())
       .Add("reject_bad_outline", [](NodeConfig& c) -> bool& { return c.segmenter.reject_bad_outline; })
       .Add("split_merged_tips", [](NodeConfig& c) -> bool& { return c.segmenter.split_merged_tips; })
+      .Add("read_collars", [](NodeConfig& c) -> bool& { return c.segmenter.read_collars; })
       .Add("template_search_px", [](NodeConfig& c) -> double& { return c.segmenter.template_search_px; })
       .Add("outline_outlier_px", [](NodeConfig& c) -> double& { return c.segmenter.outline.outlier_px; })
       .Add("outline_max_edge_rms_px", [](NodeConfig& c) -> double& { return c.segmenter.outline.max_edge_rms_px; })

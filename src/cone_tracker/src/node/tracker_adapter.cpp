@@ -87,8 +87,18 @@ std::vector<std::string> PoseGateNames(uint32_t bits) {
   return out;
 }
 
+namespace {
+
+// The config with the layout's collars for reading cut cones (segmenter.h, read_collars).
+NodeConfig WithCollars(NodeConfig config, const std::vector<ConeModel>& layout) {
+  config.segmenter.collar.collars = CommonCollars(layout);
+  return config;
+}
+
+}  // namespace
+
 TrackerAdapter::TrackerAdapter(const NodeConfig& config, const std::vector<ConeModel>& layout)
-    : config_(config), layout_(layout), detector_(config.segmenter, config.detector) {
+    : config_(WithCollars(config, layout)), layout_(layout), detector_(config_.segmenter, config_.detector) {
   ValidateConfig(config_);
   if (layout_.size() < 3 || int(layout_.size()) > kMaxTrackedCones)
     throw std::invalid_argument("the layout needs 3 to " + std::to_string(kMaxTrackedCones) + " cones");
@@ -113,6 +123,7 @@ void TrackerAdapter::Reconfigure(const SegmenterConfig& segmenter, const ConePos
                                  const DebugImageConfig& debug) {
   NodeConfig next = config_;
   next.segmenter = segmenter, next.pose = pose, next.debug = debug;
+  next.segmenter.collar.collars = config_.segmenter.collar.collars;  // the layout's, not a parameter
   ValidateConfig(next);
   detector_.SetConfig(segmenter, next.detector.dnn_score_min);  // the colour table: only if the HSI bounds changed
   config_ = next;

@@ -33,6 +33,10 @@ void TrackerAdapter::FillObservations(const sensor_msgs::Image& im, const std::o
   for (const ConeDetection& d : dets) {
     points.push_back(PointsOf(d));
     cov.push_back(PointCovariances(points.back(), d.blob.area, config_.pose.sigma_px));
+    if (d.by_collars) {  // the points read off the collars: their error along the axis (collar_ruler.h)
+      const Eigen::Vector2d a = (d.base_undist_px - d.peak_undist_px).normalized();
+      for (int k = 0; k < 3; ++k) cov.back()[size_t(k)] += d.axis_sigma_px(k) * d.axis_sigma_px(k) * a * a.transpose();
+    }
   }
   if (pred) {
     AssociationConfig a;

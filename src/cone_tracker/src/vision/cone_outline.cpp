@@ -95,6 +95,18 @@ bool DistortPixels(const CameraModel& camera, std::vector<Eigen::Vector2d>* poin
   return true;
 }
 
+Eigen::Vector3d OutlineAxisLine(const Eigen::Vector3d& left_line, const Eigen::Vector3d& right_line,
+                                const CameraModel& camera) {
+  // The mirror plane's image is the bisector of the edges as unit 3-vectors in normalised coordinates
+  // (l_n = K^T l), mapped back (K^-T).
+  if (!(camera.fx_px > 0.0 && camera.fy_px > 0.0))
+    return left_line / left_line.head<2>().norm() - right_line / right_line.head<2>().norm();
+  Eigen::Matrix3d K;
+  K << camera.fx_px, 0, camera.cx_px, 0, camera.fy_px, camera.cy_px, 0, 0, 1;
+  const Eigen::Vector3d n = (K.transpose() * left_line).normalized() - (K.transpose() * right_line).normalized();
+  return K.transpose().inverse() * n;
+}
+
 OutlineFit FitConeOutline(const std::vector<Run>& runs, const Eigen::Vector2d& peak_guess,
                           const Eigen::Vector2d& base_guess, const CameraModel& camera, const OutlineConfig& config) {
   OutlineFit out;
@@ -199,17 +211,7 @@ OutlineFit FitConeOutline(const std::vector<Run>& runs, const Eigen::Vector2d& p
   out.left_line = l1, out.right_line = l2, out.apex_undist_px = apex, out.tip_short_px = -along;
   if (along > 1.5 || along < -out.tip_zone_px || lateral > 3.0 + config.max_apex_gap_frac * h0 / raw_px)
     return out.why = "apex does not fit the tip", out;
-  // The axis: the mirror plane's image is the bisector of the edges as unit
-  // 3-vectors in normalised coordinates (l_n = K^T l), mapped back (K^-T).
-  Eigen::Vector3d axis;
-  if (camera.fx_px > 0.0 && camera.fy_px > 0.0) {
-    Eigen::Matrix3d K;
-    K << camera.fx_px, 0, camera.cx_px, 0, camera.fy_px, camera.cy_px, 0, 0, 1;
-    const Eigen::Vector3d n = (K.transpose() * l1).normalized() - (K.transpose() * l2).normalized();
-    axis = K.transpose().inverse() * n;
-  } else {
-    axis = l1 / l1.head<2>().norm() - l2 / l2.head<2>().norm();
-  }
+  const Eigen::Vector3d axis = OutlineAxisLine(l1, l2, camera);
   Eigen::Vector2d d(axis.y(), -axis.x());
   if (!(d.norm() > 0)) return out.why = "no axis", out;
   d.normalize();

@@ -188,8 +188,15 @@ double Chi2Threshold(int dof, double probability) {
 
 std::vector<ConeModel> ConeModels(const rig_model::Layout& layout) {
   std::vector<ConeModel> cones;
-  for (const rig_model::ConeSpec& spec : layout.cones) cones.push_back({spec.base_m, spec.height_m, spec.tau});
+  for (const rig_model::ConeSpec& spec : layout.cones)
+    cones.push_back({spec.base_m, spec.height_m, spec.tau, spec.collars});
   return cones;
+}
+
+std::vector<std::pair<double, double>> CommonCollars(const std::vector<ConeModel>& cones) {
+  for (const ConeModel& c : cones)
+    if (c.collars != cones.front().collars) return {};
+  return cones.empty() ? std::vector<std::pair<double, double>>() : cones.front().collars;
 }
 
 std::array<Eigen::Vector3d, 3> CorrectedModelPoints(const ConeModel& cone, const Eigen::Vector3d& eye) {

@@ -128,6 +128,8 @@ std::string SegmenterConfig::Validate() const {
   if (!(shape.min_height_px >= 0.0)) return "shape_min_height_px must be >= 0";
   if (!(shape.max_top_width_frac > 0.0)) return "shape_max_top_width_frac must be > 0";
   if (!(shape.max_width_rms_frac > 0.0)) return "shape_max_width_rms_frac must be > 0";
+  const std::string collar_error = collar.Validate();
+  if (!collar_error.empty()) return collar_error;
   if (!(shape.max_hole_frac >= 0.0 && shape.max_hole_frac <= 1.0)) return "shape_max_hole_frac must be in [0, 1]";
   if (!(template_search_px >= 0.0 && template_search_px <= 32.0)) return "template_search_px must be in [0, 32]";
   return "";
@@ -389,6 +391,7 @@ SegmentationResult Segmenter::Process(const ImageView& image, const CameraModel&
   for (size_t i = 0; i < blobs.size(); ++i) dets[i] = Judge(std::move(blobs[i]), mask, camera, &fits[i]);
   SplitMergedTips(&dets, fits, mask, camera);
   result.orange_undist_px = OrangeRegions(dets, camera);
+  ReadCutCones(&dets, camera);  // after the orange regions: a cone it reads is a refused blob's part
   for (ConeDetection& det : dets) {
     det.blob.runs.clear();
     det.blob.runs.shrink_to_fit();

@@ -62,6 +62,11 @@ struct OutlineFit {
 OutlineFit FitConeOutline(const std::vector<Run>& runs, const Eigen::Vector2d& peak_guess_px,
                           const Eigen::Vector2d& base_guess_px, const CameraModel& camera, const OutlineConfig& config);
 
+// The axis line (the image of the plane through the cone's axis and the camera centre): the projective bisector of
+// the two edges (OutlineFit's left_line and right_line, undistorted px). camera with fx_px <= 0: the Euclidean one.
+Eigen::Vector3d OutlineAxisLine(const Eigen::Vector3d& left_line, const Eigen::Vector3d& right_line,
+                                const CameraModel& camera);
+
 // Forward lens model: undistorted (ideal, same K) pixels -> raw pixels. The
 // inverse of UndistortPixels (segmenter.h). False on non-finite output.
 bool DistortPixels(const CameraModel& camera, std::vector<Eigen::Vector2d>* points_px);

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -24,11 +25,15 @@ namespace cone_tracker {
 struct ConeModel {
   Eigen::Vector3d base_m = Eigen::Vector3d::Zero();  // centre of the base circle in `cones`
   double height_m = 0.71;
-  double tau = 1.0 / 7.0;  // radius / height (3.1.4)
+  double tau = 1.0 / 7.0;                          // radius / height (3.1.4)
+  std::vector<std::pair<double, double>> collars;  // white collars, (from, to) fractions of the height (rig_model)
 };
 
 // The cones of a layout (rig_model's, or rig_sim's scene), in file order (the equilateral cones first).
 std::vector<ConeModel> ConeModels(const rig_model::Layout& layout);
+// The collars every cone of the layout has alike (as fractions of its height), for reading a cut cone by them
+// (collar_ruler.h); empty when the cones differ or have none.
+std::vector<std::pair<double, double>> CommonCollars(const std::vector<ConeModel>& cones);
 
 // Peak, mid and base model points (3.12) moved to the cone's surface on the
 // side facing the centre of projection (3.1.4): the silhouette's mid and base

@@ -13,6 +13,7 @@
 
 #include "cone_tracker/pose/pnp.h"
 #include "cone_tracker/vision/blobs.h"
+#include "cone_tracker/vision/collar_ruler.h"
 #include "cone_tracker/vision/color_lut.h"
 #include "cone_tracker/vision/cone_outline.h"
 #include "cone_tracker/vision/cone_shape.h"
@@ -95,6 +96,11 @@ struct SegmenterConfig {
   bool split_merged_tips = true;
   // The silhouette must be a cone's (cone_shape.h): kGateShape otherwise.
   ConeShapeConfig shape;
+  // With kOutline: a cone cut by the image's edge below its collars, refused by the border or outline gate, is
+  // measured by its collars (collar_ruler.h) when `collar.collars` is set (the tracker sets the layout's) and
+  // read_collars is on.
+  bool read_collars = true;
+  CollarRulerConfig collar;
   double template_search_px = 4.0;  // kTemplates: apex offsets tried, +- this around the line search's
 
   std::string Validate() const;
@@ -127,6 +133,11 @@ struct ConeDetection {
                   base_px = Eigen::Vector2d::Zero();
   Eigen::Vector2d peak_undist_px = Eigen::Vector2d::Zero(), mid_undist_px = Eigen::Vector2d::Zero(),
                   base_undist_px = Eigen::Vector2d::Zero();
+  // Read by its collars (collar_ruler.h): the base is cut by the image's edge, and the points come from the lower
+  // body's edges and the collars; their errors along the cone's axis (peak, mid, base: px, 1 sigma, undistorted)
+  // add to the point noise. The blob is the lower body's.
+  bool by_collars = false;
+  Eigen::Vector3d axis_sigma_px = Eigen::Vector3d::Zero();
   bool accepted() const { return failed_gates == 0; }
 };
 
@@ -181,6 +192,14 @@ class Segmenter {
   // detections are judged again. fits: each detection's outline fit (Judge's).
   void SplitMergedTips(std::vector<ConeDetection>* dets, const std::vector<OutlineFit>& fits, const MaskView& mask,
                        const CameraModel& camera) const;
+  // A refused blob cut by the image's bottom edge: its lower body's edges and the collars up the axis (collar_ruler.h)
+  // give a cone, appended accepted with by_collars set (the blob stays refused: it may hold more, another cone's
+  // tip say); not when an accepted cone has the same peak.
+  void ReadCutCones(std::vector<ConeDetection>* dets, const CameraModel& camera) const;
+  // ReadCutCones' outline of the cone cut in blob `cut` (runs): its lower body's, with the rows above whose ends lie on
+  // its edges (in `refused`, the refused blobs' runs) joined; *runs the rows it took, the bottom row first.
+  OutlineFit FitCutCone(const std::vector<Run>& cut, const std::vector<const std::vector<Run>*>& refused,
+                        const CameraModel& camera, std::vector<Run>* runs) const;
 
   SegmenterConfig config_;
   ColorLut lut_;
