@@ -2,6 +2,8 @@
 // its agreement with 3.1.6's correspondence, and the point covariances.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdio>
 
@@ -445,6 +447,60 @@ TEST(Associate, AReadingThatPutsAConePartlyInViewWhereNoOrangeIsCostsAMiss) {
       "a sign above it %s\n",
       plain.ambiguous ? "ambiguous" : "associated", with.cone_of_detection[0],
       sign.ambiguous ? "ambiguous" : "associated");
+}
+
+// The recorded orange regions of look_away seed 35 at 12.833 s (cone_tracker/observations' `orange`, undistorted px):
+// four one-pixel columns at the right edge (cone 1's base, cut by it; a barrel lens puts its pixels past the pinhole
+// image's edge, and OrangeRegions keeps them on it), then cone 2's blobs, its base cut by the bottom edge.
+std::vector<rig_model::ImageBox> LookAway35Orange(bool with_the_edge) {
+  const int rois[][4] = {{511, 221, 1, 14},  {511, 233, 1, 13},  {511, 244, 1, 14}, {511, 256, 1, 14},
+                         {484, 315, 11, 14}, {481, 327, 12, 14}, {469, 338, 5, 14}, {468, 350, 20, 15},
+                         {454, 364, 30, 15}, {447, 374, 37, 10}, {441, 383, 42, 1}, {441, 383, 40, 1}};
+  std::vector<rig_model::ImageBox> out;
+  for (int i = with_the_edge ? 0 : 4; i < 12; ++i)  // rig_model::FromRoi's boxes
+    out.push_back({rois[i][0] - 0.5, rois[i][1] - 0.5, rois[i][0] + rois[i][2] - 0.5, rois[i][1] + rois[i][3] - 0.5});
+  return out;
+}
+
+// The converse of a miss: orange a reading leaves to clutter (rig_model::UnexplainedOrange). rig_sim's look_away
+// seed 35 at 512x384, 12.833 s, the first frame after the outage: pose_ekf 0.42 m off (its recorded pose and
+// covariance), the short cone 2 alone (its recorded points: its base cut by the bottom edge, read by its collars,
+// collar_ruler.h). Read as the tall cone 1, with the camera 0.9 m away, it fits nearly as well: ambiguous. The
+// frame's other orange is cone 1's base at the right edge: the right reading puts cone 1 there, the other leaves it
+// to clutter and pays for it. Without that orange, no cue.
+TEST(Associate, AReadingThatLeavesOrangeUnexplainedPaysForIt) {
+  const auto layout = Asymmetric();
+  const CameraModel cam = RigSim512();
+  const Eigen::Quaterniond q_pred = Eigen::Quaterniond(0.54092, -0.77679, -0.28805, 0.14503).normalized();
+  const pose_math::Pose pred = CameraAt(Eigen::Vector3d(-0.51267, -1.96317, 1.19291), q_pred);
+  Eigen::Matrix<double, 6, 6> cov_ros = Eigen::Matrix<double, 6, 6>::Zero();  // pose_ekf/pose's, rounded
+  cov_ros.topLeftCorner<3, 3>() << 0.1520, 0.0082, 0.0055, 0.0082, 0.1715, -0.0075, 0.0055, -0.0075, 0.1232;
+  cov_ros.bottomRightCorner<3, 3>() << 3.96e-6, 3.0e-7, 9.0e-8, 3.0e-7, 3.98e-6, 7.7e-7, 9.0e-8, 7.7e-7, 6.18e-6;
+  AssociationConfig cfg = RecordedPrior(q_pred, cov_ros);
+  cfg.miss_cost = 7.0;  // rig_sim's association_miss_cost
+  const ConePoints2d det = {Eigen::Vector2d(493.74, 312.85), Eigen::Vector2d(473.18, 365.89),
+                            Eigen::Vector2d(453.80, 415.88)};
+  const double h = (det[0] - det[2]).norm();
+  const std::vector<std::array<Eigen::Matrix2d, 3>> cov = {PointCovariances(det, h * h * layout[2].tau, 1.0)};
+  const auto associate = [&](double unexplained_cost, bool with_the_edge) {
+    AssociationConfig c = cfg;
+    c.unexplained_cost = unexplained_cost;
+    return AssociateCones({det}, cov, layout.size(), LayoutSeenFrom(layout), cam, pred, c,
+                          LookAway35Orange(with_the_edge));
+  };
+  const AssociationResult off = associate(0.0, true);
+  EXPECT_EQ(off.cone_of_detection, (std::vector<int>{-1}));
+  EXPECT_EQ(off.ambiguous, 1);
+  const AssociationResult on = associate(1.75, true);  // rig_sim's association_unexplained_cost
+  EXPECT_EQ(on.cone_of_detection, (std::vector<int>{2}));
+  const AssociationResult none = associate(1.75, false);
+  EXPECT_EQ(none.cone_of_detection, (std::vector<int>{-1}));
+  EXPECT_EQ(none.ambiguous, 1);
+  std::printf(
+      "[ clutter ] look_away seed 35, 12.833 s: cone 2 alone, without the clutter cost %s, with it cone %d (cost "
+      "%.2f), without the orange at the edge %s\n",
+      off.ambiguous ? "ambiguous" : "associated", on.cone_of_detection[0], on.cost,
+      none.ambiguous ? "ambiguous" : "associated");
 }
 
 TEST(PointCovariances, IsotropicButThePeakAlongTheAxis) {

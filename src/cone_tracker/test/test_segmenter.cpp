@@ -89,6 +89,28 @@ TEST(Segmenter, IndoorFourInchConesAndUndistortion) {
   }
 }
 
+// A barrel lens spreads the edge's pixels past the pinhole image's bounds: the orange regions of a blob on the left
+// edge keep a column inside the image, where cone_tracker/observations (clipped to the image) and the association's
+// clutter test (rig_model::UnexplainedOrange) still see that orange reaches the edge there.
+TEST(Segmenter, OrangeRegionsOfABlobAtTheEdgeStayInTheImage) {
+  CameraModel cam;
+  cam.width_px = 512, cam.height_px = 384, cam.fx_px = cam.fy_px = 385.0, cam.cx_px = 255.5, cam.cy_px = 191.5;
+  cam.distortion = {-0.3, 0.08, 0.0, 0.0, 0.0};
+  std::vector<Eigen::Vector2d> corner = {{-0.5, 180.0}};
+  ASSERT_TRUE(UndistortPixels(cam, &corner));
+  ASSERT_LT(corner[0].x(), -2.0) << "the lens puts the edge's pixels outside the pinhole image";
+  ConeDetection d;
+  for (int y = 170; y < 190; ++y) d.blob.runs.push_back({y, 0, 1});
+  const std::vector<rig_model::ImageBox> boxes = OrangeRegions({d}, cam);
+  ASSERT_FALSE(boxes.empty());
+  for (const rig_model::ImageBox& b : boxes) {
+    EXPECT_GE(b.u_max, 0.0);
+    EXPECT_LE(b.u_min, 511.0);
+    EXPECT_GT(b.v_max, 160.0);
+    EXPECT_LT(b.v_min, 200.0);
+  }
+}
+
 TEST(Segmenter, BayerAndBgrGiveTheSameCones) {
   const rig_sim::Scene scene = rig_sim::DefaultScene();
   // A view where no cone overlaps another in the image (overlapping orange

@@ -3,6 +3,8 @@
 // cones a reading puts in plain view (ConesMissedAt). The update itself and its gates: test_cone_update.cpp.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -234,6 +236,61 @@ TEST(ConeGates, ARivalThatPutsAnUnseenConePartlyInViewWhereNoOrangeIsPaysAMiss) 
   EXPECT_EQ(r.ambiguous, 0);
   EXPECT_EQ(r.ambiguity_own_missed, 0);
   EXPECT_EQ(r.ambiguity_rival_missed, 1);  // cone 1, above the detection, where the image has no orange
+}
+
+// The converse (EkfConfig::cone_unexplained_cost, rig_model::UnexplainedOrange). rig_sim's look_away seed 35 at
+// 512x384, 12.833 s, the first frame after the outage: pose_ekf 0.42 m off (its recorded pose and position
+// covariance), the short cone 2 alone (its recorded points: its base cut by the image's bottom edge, read by its
+// collars in cone_tracker). Read as the tall cone 1, 0.9 m away, it fits nearly as well: ambiguous. The frame's
+// recorded orange regions also hold cone 1's base at the right edge (one-pixel columns: a barrel lens puts its pixels
+// past the pinhole image's edge): the right reading puts cone 1 there, the other leaves it to clutter. Without that
+// orange, no cue.
+TEST(ConeGates, ARivalThatLeavesOrangeUnexplainedPaysForIt) {
+  const std::vector<pose_ekf::ConeGeometry> layout = AsymmetricLayout();
+  const pose_ekf::PinholeIntrinsics K = kRigSim512;
+  pose_math::Pose predicted;  // T_cones_camera
+  predicted.q = pose_math::Quat(0.54092, -0.77679, -0.28805, 0.14503).normalized();
+  predicted.t = {-0.51267, -1.96317, 1.19291};
+  Eigen::Matrix3d position_cov;  // pose_ekf/pose's, rounded
+  position_cov << 0.1520, 0.0082, 0.0055, 0.0082, 0.1715, -0.0075, 0.0055, -0.0075, 0.1232;
+  const int rois[][4] = {{511, 221, 1, 14},  {511, 233, 1, 13},  {511, 244, 1, 14}, {511, 256, 1, 14},
+                         {484, 315, 11, 14}, {481, 327, 12, 14}, {469, 338, 5, 14}, {468, 350, 20, 15},
+                         {454, 364, 30, 15}, {447, 374, 37, 10}, {441, 383, 42, 1}, {441, 383, 40, 1}};
+  const auto run = [&](double unexplained_cost, bool with_the_edge, ConeFrameResult* r) {
+    EkfConfig c = ConeSimConfig();
+    c.cone_miss_cost = 7.0, c.cone_unexplained_cost = unexplained_cost;  // pose_ekf_rig_sim.yaml's: 7, 1.75
+    EkfCore ekf{c};
+    EXPECT_TRUE(ekf.Initialize(Camera(0.0, predicted, 0.0024, 0.01)));
+    pose_ekf::FilterState s = ekf.state();
+    s.P.block<3, 3>(pose_ekf::kP, pose_ekf::kP) = position_cov;
+    ekf.Restore(s);
+    ConeFrame f;
+    f.K = K, f.layout = layout, f.width_px = 512, f.height_px = 384;
+    f.cones.resize(1);
+    f.cones[0].cone_id = 2, f.cones[0].cone = layout[2];
+    f.cones[0].px = {Eigen::Vector2d(493.74, 312.85), Eigen::Vector2d(473.18, 365.89), Eigen::Vector2d(453.80, 415.88)};
+    for (Eigen::Matrix2d& cov : f.cones[0].cov_px2) cov = Eigen::Matrix2d::Identity();
+    for (int i = with_the_edge ? 0 : 4; i < 12; ++i)  // rig_model::FromRoi's boxes
+      f.orange_px.push_back(
+          {rois[i][0] - 0.5, rois[i][1] - 0.5, rois[i][0] + rois[i][2] - 0.5, rois[i][1] + rois[i][3] - 0.5});
+    const UpdateResult u = ekf.UpdateCones(f, r);
+    std::printf(
+        "[ cones ] look_away seed 35, 12.833 s, unexplained cost %.2f%s: own %.2f (%d unexplained), rival %.2f "
+        "(cone %d, %d unexplained) -> %s\n",
+        unexplained_cost, with_the_edge ? "" : ", no orange at the right edge", r->ambiguity_own_chi2,
+        r->ambiguity_own_unexplained, r->ambiguity_rival_chi2, r->ambiguity_rival_id, r->ambiguity_rival_unexplained,
+        ToString(u));
+    return u;
+  };
+  ConeFrameResult r;
+  EXPECT_EQ(run(0.0, true, &r), UpdateResult::kGated);  // off: ambiguous
+  EXPECT_EQ(r.ambiguous, 1);
+  EXPECT_EQ(r.ambiguity_rival_id, 1);
+  EXPECT_EQ(run(1.75, true, &r), UpdateResult::kApplied);
+  EXPECT_EQ(r.ambiguity_own_unexplained, 0);
+  EXPECT_GE(r.ambiguity_rival_unexplained, 2);
+  EXPECT_EQ(run(1.75, false, &r), UpdateResult::kGated);  // nothing at the edge to explain: ambiguous again
+  EXPECT_EQ(r.ambiguity_rival_unexplained, 0);
 }
 
 // ConeFitCost: with 0 iterations the first-order statistic yᵀ S⁻¹ y, and iterated the same figure where

@@ -84,6 +84,7 @@ TEST(NodeConfig, TheTableHasEveryParameterTheLoaderRead) {
                                        "cone_ambiguity_margin",
                                        "cone_ambiguity_iterations",
                                        "cone_miss_cost",
+                                       "cone_unexplained_cost",
                                        "cone_update_iterations",
                                        "cone_repeat_px",
                                        "cone_repeat_max_s",

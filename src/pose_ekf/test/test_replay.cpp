@@ -166,14 +166,14 @@ TEST(Replay, ConeLogGivesTheFusedConesNis) {
   ASSERT_TRUE(std::getline(f, line));
   EXPECT_EQ(line,
             "# stamp_s cones ids result fused gated joint_dropped ambiguous too_few own_chi2 rival_chi2 rival_id "
-            "sigma_p_m nis own_missed rival_missed");
+            "sigma_p_m nis own_missed rival_missed own_unexplained rival_unexplained");
   size_t rows = 0;
   double nis_sum = 0.0;
   int dof = 0;
   while (std::getline(f, line)) {
     std::istringstream fields(line);
     std::vector<std::string> c{std::istream_iterator<std::string>(fields), std::istream_iterator<std::string>()};
-    ASSERT_EQ(c.size(), 16u) << line;
+    ASSERT_EQ(c.size(), 18u) << line;
     ++rows;
     const int fused = std::stoi(c[4]);
     if (std::stod(c[0]) < 2.0 || fused == 0) continue;  // after the first second (stamps start at 1 s)

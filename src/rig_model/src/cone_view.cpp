@@ -1,6 +1,7 @@
 #include "rig_model/cone_view.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace rig_model {
 
@@ -86,6 +87,60 @@ int MissedInView(const std::vector<std::optional<ConeSilhouette>>& silhouettes, 
     }
   }
   return missed;
+}
+
+namespace {
+
+// Whether the triangle of s, grown by margin_px, and the box overlap: no axis among the box's two and the triangle's
+// three edge normals separates them (the separating-axis test for convex polygons).
+bool TriangleOverlapsBox(const ConeSilhouette& s, const ImageBox& b, double margin_px) {
+  const Eigen::Vector2d axis = s.base_px - s.peak_px;
+  const double length = axis.norm();
+  const Eigen::Vector2d across = length > 0.0 ? Eigen::Vector2d(-axis.y(), axis.x()) / length : Eigen::Vector2d(1, 0);
+  const Eigen::Vector2d tri[3] = {s.peak_px, s.base_px + s.half_width_px * across,
+                                  s.base_px - s.half_width_px * across};
+  const Eigen::Vector2d box[4] = {{b.u_min, b.v_min}, {b.u_max, b.v_min}, {b.u_max, b.v_max}, {b.u_min, b.v_max}};
+  const auto separated = [&](const Eigen::Vector2d& n) {
+    const double norm = n.norm();
+    if (!(norm > 0.0)) return false;
+    double t_lo = INFINITY, t_hi = -INFINITY, b_lo = INFINITY, b_hi = -INFINITY;
+    for (const Eigen::Vector2d& p : tri) t_lo = std::min(t_lo, p.dot(n) / norm), t_hi = std::max(t_hi, p.dot(n) / norm);
+    for (const Eigen::Vector2d& p : box) b_lo = std::min(b_lo, p.dot(n) / norm), b_hi = std::max(b_hi, p.dot(n) / norm);
+    return t_hi + margin_px < b_lo || b_hi + margin_px < t_lo;
+  };
+  if (separated({1.0, 0.0}) || separated({0.0, 1.0})) return false;
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector2d e = tri[(i + 1) % 3] - tri[i];
+    if (separated({-e.y(), e.x()})) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+ConeSilhouette DetectedSilhouette(const Eigen::Vector2d& peak_px, const Eigen::Vector2d& base_px) {
+  return {peak_px, base_px, 0.25 * (base_px - peak_px).norm()};
+}
+
+int UnexplainedOrange(const std::vector<std::optional<ConeSilhouette>>& silhouettes,
+                      const std::vector<ConeSilhouette>& detected, const std::vector<ImageBox>& orange, double width_px,
+                      double height_px, const PlainViewRule& rule) {
+  const double m = rule.explain_margin_px, far = 1e6;
+  int unexplained = 0;
+  for (ImageBox b : orange) {
+    if (width_px > 0.0 && height_px > 0.0) {  // on the edge: reaching past it (the pixels' outer edges at -0.5)
+      if (b.u_min <= 0.0) b.u_min = -far;
+      if (b.v_min <= 0.0) b.v_min = -far;
+      if (b.u_max >= width_px - 1.0) b.u_max = far;
+      if (b.v_max >= height_px - 1.0) b.v_max = far;
+    }
+    const ImageBox grown{b.u_min - m, b.v_min - m, b.u_max + m, b.v_max + m};
+    const auto near = [&](const ConeSilhouette& s) { return s.Box().Overlaps(grown) && TriangleOverlapsBox(s, b, m); };
+    bool explained = std::any_of(detected.begin(), detected.end(), near);
+    for (size_t k = 0; k < silhouettes.size() && !explained; ++k) explained = silhouettes[k] && near(*silhouettes[k]);
+    unexplained += !explained;
+  }
+  return unexplained;
 }
 
 }  // namespace rig_model

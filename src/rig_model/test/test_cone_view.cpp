@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <optional>
+#include <vector>
+
 #include "rig_model/cone_view.h"
 
 namespace rig_model {
@@ -86,6 +89,32 @@ TEST(ConeView, AConePartlyInViewWithNoOrangeOverItIsAMiss) {
   EXPECT_EQ(MissedInView(cones, {true, false}, seen_cone, 512, 384), 1);
   cones = {Triangle(300, 200), Triangle(302, 198)};
   EXPECT_EQ(MissedInView(cones, {true, false}, seen_cone, 512, 384), 0);
+}
+
+TEST(ConeView, OrangeNearNoConeIsUnexplained) {
+  // A cone with its base at (100, 100): its peak at (100, 60), 6 px to either side at the base.
+  const std::vector<std::optional<ConeSilhouette>> layout = {Triangle(100.0, 100.0), std::nullopt};
+  const PlainViewRule rule;  // explain_margin_px 4
+  const auto count = [&](const std::vector<ImageBox>& orange, const std::vector<ConeSilhouette>& detected = {}) {
+    return UnexplainedOrange(layout, detected, orange, 640.0, 480.0, rule);
+  };
+  EXPECT_EQ(count({{98.0, 70.0, 102.0, 80.0}}), 0);    // on the triangle
+  EXPECT_EQ(count({{108.0, 96.0, 112.0, 100.0}}), 0);  // 2 px beside its base corner: within the margin
+  EXPECT_EQ(count({{200.0, 70.0, 210.0, 80.0}}), 1);   // far from it
+  // In the triangle's box but off the triangle: beside the apex, where the box is empty.
+  EXPECT_EQ(count({{103.0 + 4.5, 55.0, 106.0 + 4.5, 62.0}}), 1);
+  EXPECT_EQ(count({}), 0);
+  // A detected cone explains its own orange in every reading; a quarter of its height to either side.
+  const ConeSilhouette detected = DetectedSilhouette({200.0, 40.0}, {200.0, 80.0});
+  EXPECT_DOUBLE_EQ(detected.half_width_px, 10.0);
+  EXPECT_EQ(count({{200.0, 70.0, 210.0, 80.0}}, {detected}), 0);
+  EXPECT_EQ(count({{200.0, 70.0, 210.0, 80.0}, {300.0, 70.0, 310.0, 80.0}}, {detected}), 1);
+  // A box on the image's edge reaches past it: a cone just outside the image explains it (its triangle 11 px from the
+  // box, beyond the margin).
+  const std::vector<std::optional<ConeSilhouette>> outside = {Triangle(655.0, 100.0)};  // base corner at u = 649
+  const std::vector<ImageBox> edge = {{638.5, 70.0, 639.5, 90.0}};
+  EXPECT_EQ(UnexplainedOrange(outside, {}, edge, 640.0, 480.0, rule), 0);
+  EXPECT_EQ(UnexplainedOrange(outside, {}, edge, 0.0, 0.0, rule), 1);  // size unknown: the box as it is
 }
 
 }  // namespace

@@ -33,6 +33,7 @@ void ValidateConfig(const NodeConfig& c) {
   Check(c.prediction_max_sigma_m >= c.prediction_sigma_m, "prediction_max_sigma_m must be >= prediction_sigma_m");
   Check(c.association_margin >= 0.0, "association_margin must be >= 0");
   Check(c.association_miss_cost >= 0.0, "association_miss_cost must be >= 0");
+  Check(c.association_unexplained_cost >= 0.0, "association_unexplained_cost must be >= 0");
   Check(c.expected_rate_hz > 0.0, "expected_rate_hz must be > 0");
   Check(c.rate_tolerance >= 0.0 && c.rate_tolerance < 1.0, "rate_tolerance must be in [0, 1)");
   const std::string seg = c.segmenter.Validate();

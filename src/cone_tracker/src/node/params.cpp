@@ -41,6 +41,7 @@ Table MakeTable() {
       .Add("prediction_max_sigma_m", [](NodeConfig& c) -> double& { return c.prediction_max_sigma_m; })
       .Add("association_margin", [](NodeConfig& c) -> double& { return c.association_margin; })
       .Add("association_miss_cost", [](NodeConfig& c) -> double& { return c.association_miss_cost; })
+      .Add("association_unexplained_cost", [](NodeConfig& c) -> double& { return c.association_unexplained_cost; })
       .Add("expected_rate_hz", [](NodeConfig& c) -> double& { return c.expected_rate_hz; })
       .Add("rate_tolerance", [](NodeConfig& c) -> double& { return c.rate_tolerance; })
       // Segmentation (3.1.5): the HSI bounds (3.22), the ROI, the blob gates and the peak/base.

@@ -44,6 +44,7 @@ void TrackerAdapter::FillObservations(const sensor_msgs::Image& im, const std::o
     a.gate_probability = config_.pose.chi2_probability;
     a.ambiguity_margin = config_.association_margin;
     a.miss_cost = config_.association_miss_cost;
+    a.unexplained_cost = config_.association_unexplained_cost;
     a.prediction_sigma_rad = config_.prediction_sigma_deg * M_PI / 180.0;
     if (pred_cov_ros) {
       // pose_ekf's own covariance, plus the prediction's error beyond it (prediction_sigma_*): not the tf's

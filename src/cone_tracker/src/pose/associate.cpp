@@ -93,6 +93,7 @@ std::string AssociationConfig::Validate() const {
   if (!(outside_frac >= 0.0)) return "outside_frac must be >= 0";
   if (!(min_depth_m > 0.0)) return "min_depth_m must be > 0";
   if (!(overlap_sigmas >= 0.0)) return "overlap_sigmas must be >= 0";
+  if (!(unexplained_cost >= 0.0)) return "unexplained_cost must be >= 0";
   if (!(miss_cost >= 0.0)) return "miss_cost must be >= 0";
   if (!(plain_view.margin_px >= 0.0 && plain_view.min_height_px >= 0.0))
     return "plain_view margin_px and min_height_px must be >= 0";
@@ -284,15 +285,24 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
   };
   // The layout cones an assignment leaves unmatched that its fitted pose puts in plain view, or partly in view where
   // the image has no orange: every layout cone, not only the candidates (the fit may move one into the image),
-  // projected unclipped.
-  const auto misses_at = [&](const Vector6d& x, const std::vector<int>& a) {
-    if (!(cfg.miss_cost > 0.0)) return 0;
+  // projected unclipped. And the orange boxes its pose puts no cone on, this frame's detections' own aside.
+  std::vector<rig_model::ConeSilhouette> detected;
+  for (const ConePoints2d& p : dets) detected.push_back(rig_model::DetectedSilhouette(p[0], p[2]));
+  const auto negative_at = [&](const Vector6d& x, const std::vector<int>& a, int* misses) {
+    *misses = 0;
+    if (!(cfg.miss_cost > 0.0) && !(cfg.unexplained_cost > 0.0)) return 0.0;
     const auto silhouettes =
         LayoutSilhouettes(model, num_cones, Exp(x.head<3>()) * R, eye + x.tail<3>(), cam, cfg.min_depth_m);
     std::vector<bool> seen(num_cones, false);
     for (int c : a)
       if (c >= 0) seen[size_t(out.candidates[size_t(c)].cone)] = true;
-    return rig_model::MissedInView(silhouettes, seen, orange, cam.width_px, cam.height_px, cfg.plain_view);
+    if (cfg.miss_cost > 0.0)
+      *misses = rig_model::MissedInView(silhouettes, seen, orange, cam.width_px, cam.height_px, cfg.plain_view);
+    const int unexplained =
+        cfg.unexplained_cost > 0.0
+            ? rig_model::UnexplainedOrange(silhouettes, detected, orange, cam.width_px, cam.height_px, cfg.plain_view)
+            : 0;
+    return cfg.miss_cost * *misses + cfg.unexplained_cost * unexplained;
   };
   std::vector<Scored> all;
   std::vector<int> cur(nd, -1);
@@ -308,9 +318,10 @@ AssociationResult AssociateCones(const std::vector<ConePoints2d>& dets,
       return;
     }
     if (d == nd) {
-      const int misses = misses_at(partial.x, cur);
+      int misses = 0;
+      const double negative = negative_at(partial.x, cur, &misses);
       all.push_back({cur, partial, misses});
-      all.back().fit.cost = lower + cfg.miss_cost * misses;
+      all.back().fit.cost = lower + negative;
       best_cost = std::min(best_cost, all.back().fit.cost);
       return;
     }

@@ -104,12 +104,13 @@ std::string CollarRulerConfig::Validate() const {
   std::vector<std::pair<double, double>> sorted = collars;
   std::sort(sorted.begin(), sorted.end(), [](const auto& p, const auto& q) { return p.second > q.second; });
   for (const auto& [from, to] : sorted) {
-    if (!(from > 0.0 && from < to && to < below)) return "collars must be disjoint (from, to) fractions in (0, 1)";
+    if (!(from > 0.0 && from < to && to < below))
+      return "collar.collars must be disjoint (from, to) fractions of the height in (0, 1)";
     below = from;
   }
-  if (!(white_ratio > 0.0 && white_ratio < 1.0)) return "collar_white_ratio must be in (0, 1)";
-  if (!(max_residual_px > 0.0)) return "collar_max_residual_px must be > 0";
-  if (!(edge_sigma_px > 0.0)) return "collar_edge_sigma_px must be > 0";
+  if (!(white_ratio > 0.0 && white_ratio < 1.0)) return "collar.white_ratio must be in (0, 1)";
+  if (!(max_residual_px > 0.0)) return "collar.max_residual_px must be > 0";
+  if (!(edge_sigma_px > 0.0)) return "collar.edge_sigma_px must be > 0";
   return "";
 }
 

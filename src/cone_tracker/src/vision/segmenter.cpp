@@ -433,6 +433,14 @@ std::vector<rig_model::ImageBox> OrangeRegions(const std::vector<ConeDetection>&
       b.u_min = std::min(b.u_min, pts[k].x()), b.u_max = std::max(b.u_max, pts[k].x());
       b.v_min = std::min(b.v_min, pts[k].y()), b.v_max = std::max(b.v_max, pts[k].y());
     }
+    // A barrel lens spreads the edge's pixels past the pinhole image's bounds: a box it puts wholly outside keeps its
+    // last pixel row or column inside, where the orange reaches the image's edge (rig_model::UnexplainedOrange), and
+    // the message's regions, clipped to the image, keep it.
+    if (camera.width_px > 0 && camera.height_px > 0) {
+      const double u_last = camera.width_px - 1.0, v_last = camera.height_px - 1.0;
+      b.u_min = std::min(b.u_min, u_last), b.u_max = std::max(b.u_max, 0.0);
+      b.v_min = std::min(b.v_min, v_last), b.v_max = std::max(b.v_max, 0.0);
+    }
   }
   return boxes;
 }

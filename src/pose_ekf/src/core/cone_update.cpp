@@ -187,8 +187,11 @@ double ConeFitCost(const StateVector& x0, const StateMatrix& P, const ConeGeomet
   return J;
 }
 
-int ConesMissedAt(const StateVector& x, const ConeFrame& f, const std::vector<int>& seen) {
-  if (!(f.width_px > 0.0 && f.height_px > 0.0)) return 0;
+namespace {
+
+// Every layout cone's silhouette at x (nullopt: not projected), from the projected peak and base, tau times their
+// distance wide.
+std::vector<std::optional<rig_model::ConeSilhouette>> SilhouettesAt(const StateVector& x, const ConeFrame& f) {
   std::vector<std::optional<rig_model::ConeSilhouette>> silhouettes(f.layout.size());
   ConeVector h;
   for (size_t k = 0; k < f.layout.size(); ++k) {
@@ -196,10 +199,24 @@ int ConesMissedAt(const StateVector& x, const ConeFrame& f, const std::vector<in
     const Eigen::Vector2d peak = h.segment<2>(0), base = h.segment<2>(2);
     silhouettes[k] = rig_model::ConeSilhouette{peak, base, f.layout[k].tau * (peak - base).norm()};
   }
+  return silhouettes;
+}
+
+}  // namespace
+
+int ConesMissedAt(const StateVector& x, const ConeFrame& f, const std::vector<int>& seen) {
+  if (!(f.width_px > 0.0 && f.height_px > 0.0)) return 0;
   std::vector<bool> seen_k(f.layout.size(), false);
   for (int id : seen)
     if (id >= 0 && static_cast<size_t>(id) < seen_k.size()) seen_k[static_cast<size_t>(id)] = true;
-  return rig_model::MissedInView(silhouettes, seen_k, f.orange_px, f.width_px, f.height_px);
+  return rig_model::MissedInView(SilhouettesAt(x, f), seen_k, f.orange_px, f.width_px, f.height_px);
+}
+
+int OrangeUnexplainedAt(const StateVector& x, const ConeFrame& f) {
+  if (f.orange_px.empty()) return 0;
+  std::vector<rig_model::ConeSilhouette> detected;
+  for (const ConeObservation& o : f.cones) detected.push_back(rig_model::DetectedSilhouette(o.px[0], o.px[2]));
+  return rig_model::UnexplainedOrange(SilhouettesAt(x, f), detected, f.orange_px, f.width_px, f.height_px);
 }
 
 // The iterated EKF update of one cone: the update from the prior x0 linearised at x_i takes the residual
@@ -362,6 +379,7 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
     // layout cones its pose puts in plain view that the frame does not have (its other cones were seen, whatever
     // they are).
     const bool negative = iterations > 0 && config_.cone_miss_cost > 0.0 && f.width_px > 0.0 && f.height_px > 0.0;
+    const bool clutter = iterations > 0 && config_.cone_unexplained_cost > 0.0;
     std::vector<int> seen;
     for (size_t k = 0; k < f.cones.size(); ++k)
       if (static_cast<int>(k) != i) seen.push_back(f.cones[k].cone_id);
@@ -378,6 +396,10 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
       res.ambiguity_own_missed = missed(x_fit, o.cone_id);
       res.ambiguity_own_chi2 += config_.cone_miss_cost * res.ambiguity_own_missed;
     }
+    if (clutter) {
+      res.ambiguity_own_unexplained = OrangeUnexplainedAt(x_fit, f);
+      res.ambiguity_own_chi2 += config_.cone_unexplained_cost * res.ambiguity_own_unexplained;
+    }
     res.ambiguity_rival_chi2 = std::numeric_limits<double>::infinity();
     res.ambiguity_screened = 0;
     // A rival whose every fit costs more than own + margin (ConeFitLowerBound; sound for the iterated fit only,
@@ -391,11 +413,13 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
       }
       double rival = ConeFitCost(prior.x, prior.P, f.layout[j], f.K, z, Rn, iterations, &x_fit);
       const int rival_missed = negative ? missed(x_fit, static_cast<int>(j)) : 0;
-      rival += config_.cone_miss_cost * rival_missed;
+      const int rival_unexplained = clutter ? OrangeUnexplainedAt(x_fit, f) : 0;
+      rival += config_.cone_miss_cost * rival_missed + config_.cone_unexplained_cost * rival_unexplained;
       if (rival < res.ambiguity_rival_chi2) {
         res.ambiguity_rival_chi2 = rival;
         res.ambiguity_rival_id = static_cast<int>(j);
         res.ambiguity_rival_missed = rival_missed;
+        res.ambiguity_rival_unexplained = rival_unexplained;
       }
     }
     return res.ambiguity_rival_chi2 - res.ambiguity_own_chi2 < config_.cone_ambiguity_margin;

@@ -63,6 +63,7 @@ std::string EkfConfig::Validate() const {
   Check(err, "reacquire_sigma_p_m", reacquire_sigma_p_m, 0.0, true);
   Check(err, "cone_ambiguity_margin", cone_ambiguity_margin, 0.0, true);
   Check(err, "cone_miss_cost", cone_miss_cost, 0.0, true);
+  Check(err, "cone_unexplained_cost", cone_unexplained_cost, 0.0, true);
   if (cone_ambiguity_iterations < 0 || cone_ambiguity_iterations > 50) {
     err << "cone_ambiguity_iterations must be in [0, 50], 0 takes the first-order statistic (got "
         << cone_ambiguity_iterations << "); ";

@@ -94,6 +94,7 @@ const Table& Params() {
       .Add("cone_ambiguity_margin", [](NodeConfig& c) -> double& { return c.ekf.cone_ambiguity_margin; })
       .Add("cone_ambiguity_iterations", [](NodeConfig& c) -> int& { return c.ekf.cone_ambiguity_iterations; })
       .Add("cone_miss_cost", [](NodeConfig& c) -> double& { return c.ekf.cone_miss_cost; })
+      .Add("cone_unexplained_cost", [](NodeConfig& c) -> double& { return c.ekf.cone_unexplained_cost; })
       .Add("cone_update_iterations", [](NodeConfig& c) -> int& { return c.ekf.cone_update_iterations; })
       .Add("cone_repeat_px", [](NodeConfig& c) -> double& { return c.ekf.cone_repeat_px; })
       .Add("cone_repeat_max_s", [](NodeConfig& c) -> double& { return c.ekf.cone_repeat_max_s; })

@@ -139,7 +139,7 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
     if (!cone_log) throw std::runtime_error("cannot write " + options.cone_log_path);
     cone_log << std::fixed << std::setprecision(6)
              << "# stamp_s cones ids result fused gated joint_dropped ambiguous too_few own_chi2 rival_chi2 rival_id "
-                "sigma_p_m nis own_missed rival_missed\n";
+                "sigma_p_m nis own_missed rival_missed own_unexplained rival_unexplained\n";
   }
   std::ofstream covariance;
   if (!options.covariance_path.empty()) {
@@ -217,7 +217,8 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
           cone_log << ' ' << static_cast<int>(r) << ' ' << f.fused << ' ' << f.gated << ' ' << f.joint_dropped << ' '
                    << f.ambiguous << ' ' << f.too_few << ' ' << f.ambiguity_own_chi2 << ' ' << f.ambiguity_rival_chi2
                    << ' ' << f.ambiguity_rival_id << ' ' << adapter.buffer().PositionSigmaM() << ' ' << f.nis << ' '
-                   << f.ambiguity_own_missed << ' ' << f.ambiguity_rival_missed << '\n';
+                   << f.ambiguity_own_missed << ' ' << f.ambiguity_rival_missed << ' ' << f.ambiguity_own_unexplained
+                   << ' ' << f.ambiguity_rival_unexplained << '\n';
         }
       }
     }

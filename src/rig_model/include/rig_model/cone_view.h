@@ -5,7 +5,8 @@
 // can often be read as a short cone nearer (the prior allows the shift); that reading usually moves
 // the tall cone into the middle of the image, where the detector would have seen it. A cone the hypothesis puts
 // only partly in view (cut by the image's edge, or overlapping another) is a miss too when the image has no orange
-// where it would be. The one rule cone_tracker's association and pose_ekf's lone-cone test share. ROS-free.
+// where it would be; orange that a hypothesis puts no cone on is clutter, which it pays for too (UnexplainedOrange).
+// The one rule cone_tracker's association and pose_ekf's lone-cone test share. ROS-free.
 #pragma once
 
 #include <optional>
@@ -49,6 +50,9 @@ struct PlainViewRule {
   // pixels of prediction error included, leaves well over half its visible triangle orange.
   double part_min_area_px2 = 48.0;
   double part_max_orange_frac = 0.5;
+  // An orange box within this of a cone's triangle is that cone's (UnexplainedOrange): a reading's pose is off by a
+  // few pixels, and the boxes hold whole pixels.
+  double explain_margin_px = 4.0;
 };
 
 // boxes: every layout cone's silhouette at the hypothesis's pose, nullopt for one not in front of
@@ -67,5 +71,18 @@ double OrangeShareInView(const ConeSilhouette& s, const std::vector<ImageBox>& o
 int MissedInView(const std::vector<std::optional<ConeSilhouette>>& silhouettes, const std::vector<bool>& seen,
                  const std::vector<ImageBox>& orange, double width_px, double height_px,
                  const PlainViewRule& rule = {});
+// A measured cone's silhouette, for the orange it explains: a quarter of its height to either side, generous (a road
+// cone's is a seventh from the side, more from above) so that its own orange is never left over.
+ConeSilhouette DetectedSilhouette(const Eigen::Vector2d& peak_px, const Eigen::Vector2d& base_px);
+
+// The converse: how many of the `orange` boxes lie near no cone's triangle, neither a layout cone's at the hypothesis's
+// pose (`silhouettes`, seen or not) nor a detected cone's as measured (`detected`, the frame's cones, each explained in
+// every reading, DetectedSilhouette): orange the hypothesis leaves to clutter. A reading that names a cut cone's
+// neighbour, say, leaves the cut cone's orange at the image's edge unexplained, which the right one puts a layout cone
+// on. A box on the edge of a width x height image reaches past it (the orange may go on outside, and a barrel lens
+// shows what the pinhole image's bounds cut off); 0: unknown size.
+int UnexplainedOrange(const std::vector<std::optional<ConeSilhouette>>& silhouettes,
+                      const std::vector<ConeSilhouette>& detected, const std::vector<ImageBox>& orange, double width_px,
+                      double height_px, const PlainViewRule& rule = {});
 
 }  // namespace rig_model

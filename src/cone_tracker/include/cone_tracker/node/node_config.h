@@ -63,6 +63,9 @@ struct NodeConfig {
   // orange, costs this much more (AssociationConfig::miss_cost, negative information); 0: off (the rig, until its
   // detector's P_D is measured).
   double association_miss_cost = 0.0;
+  // Per orange box that an assignment's pose puts no layout cone near, nor a detection (AssociationConfig's
+  // unexplained_cost); 0: off.
+  double association_unexplained_cost = 0.0;
   double expected_rate_hz = 30.0;  // diagnostics' frequency check on published poses
   double rate_tolerance = 0.5;     // +-50 % of expected_rate_hz
   SegmenterConfig segmenter;

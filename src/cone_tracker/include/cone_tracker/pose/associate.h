@@ -58,6 +58,9 @@ struct AssociationConfig {
   // cone, -2 ln(1 - P_D); 0: off. Below the ambiguity margin, a miss alone never makes a wrong cone win: it can
   // only make a detection ambiguous.
   double miss_cost = 0.0;
+  // And per orange box (SegmentationResult::orange_undist_px: up to kOrangeSlabs a blob) that its pose puts no layout
+  // cone near, nor any detection (rig_model::UnexplainedOrange): orange left to clutter; 0: off.
+  double unexplained_cost = 0.0;
   rig_model::PlainViewRule plain_view;
   std::string Validate() const;
 };
@@ -80,7 +83,7 @@ struct AssociationResult {
   // prediction is off by a swap of cones, or the segmentation by a cut cone;
   // either way nothing in the frame is associated.
   bool conflict = false;
-  double cost = 0.0;  // of the chosen assignment (chi2 units, unmatched detections at the gate, misses)
+  double cost = 0.0;  // of the chosen assignment (chi2 units, unmatched detections at the gate, misses, clutter)
   int misses = 0;     // of the chosen assignment: layout cones it puts in plain view that no detection is
   int fits = 0;       // assignments (and partial ones) fitted
 };

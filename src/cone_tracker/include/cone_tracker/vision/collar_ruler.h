@@ -29,7 +29,7 @@ struct CollarRulerConfig {
   double max_residual_px = 0.6;
   // A collar edge's localisation error (px, 1 sigma): the map's, and so the mid and base points', uncertainty.
   double edge_sigma_px = 0.3;
-  std::string Validate() const;  // "" or what is wrong, naming the field
+  std::string Validate() const;  // "" or what is wrong, naming the field (as SegmenterConfig::collar.*)
 };
 
 struct CollarReading {

@@ -133,6 +133,9 @@ struct ConeFrameResult {
   // included in the two statistics above).
   int ambiguity_own_missed = 0;
   int ambiguity_rival_missed = 0;
+  // The orange boxes they leave unexplained (OrangeUnexplainedAt; EkfConfig::cone_unexplained_cost each, included).
+  int ambiguity_own_unexplained = 0;
+  int ambiguity_rival_unexplained = 0;
 };
 
 // The smallest cost J(x) = (x - x0)ᵀ P⁻¹ (x - x0) + (z - h(x))ᵀ R⁻¹ (z - h(x)) with which `cone` explains
@@ -147,6 +150,10 @@ double ConeFitCost(const StateVector& x0, const StateMatrix& P, const ConeGeomet
 // where it has no orange (rig_model::MissedInView; silhouettes from the projected peak and base, tau times their
 // distance wide). 0 without an image size.
 int ConesMissedAt(const StateVector& x, const ConeFrame& f, const std::vector<int>& seen);
+
+// How many of the frame's orange boxes (ConeFrame::orange_px) the state x puts no layout cone near, nor any of the
+// frame's cones as measured (rig_model::UnexplainedOrange): orange left to clutter. 0 without orange boxes.
+int OrangeUnexplainedAt(const StateVector& x, const ConeFrame& f);
 
 // A lower bound on ConeFitCost's J(x) at every x, hence on what it returns with iterations > 0: min(t2, the least
 // peak pixel term of a pose whose prior term is below t2). So a result equal to t2 proves J ≥ t2 everywhere

@@ -87,7 +87,9 @@ struct EkfConfig {
   // The core's default is kPose, the thesis's path; rig_sim's configuration uses kCones (README,
   // "Re-acquisition": measured on rig_sim, not yet on a real bag with truth).
   CameraUpdate camera_update = CameraUpdate::kPose;
-  double cone_gate_probability = 0.9999;   // per cone: yᵀ S⁻¹ y against chi2(4) at this probability; 1 = off
+  // Per cone: yᵀ S⁻¹ y (beyond the gate: the cone's iterated fit, ConeFitCost) against chi2(4) at this probability;
+  // 1 = off.
+  double cone_gate_probability = 0.9999;
   double cone_joint_probability = 0.9999;  // per frame: the fused cones' NIS sum against chi2(4 k); 1 = off
   double reacquire_sigma_p_m = 0.5;        // largest position sigma before a pose re-initialises; 0 = never
   // While re-acquiring (the same test: position sigma above reacquire_sigma_p_m, or
@@ -110,6 +112,9 @@ struct EkfConfig {
   // none costs this much more per such cone, -2 ln(1 - P_D) (README, "Negative information"). Needs the image size
   // (ConeFrame::width_px; the part view also ConeFrame::orange_px); 0 = off.
   double cone_miss_cost = 0.0;
+  // And per orange box of the frame (ConeFrame::orange_px) that the reading's fitted pose puts no layout cone near, nor
+  // any of the frame's cones as measured (rig_model::UnexplainedOrange): orange left to clutter; 0: off.
+  double cone_unexplained_cost = 0.0;
   // Each fused cone's update is iterated (the iterated EKF: relinearised at the updated state) up to
   // this many more times, while the pixels the updated state predicts differ from the linearisation's
   // by more than a tenth of a pixel. Tracked, one update suffices (the check costs one projection).
