@@ -13,10 +13,6 @@
 namespace cone_tracker {
 namespace {
 
-ImageView View(const SimFrame& f) {
-  return {f.rgb.data(), f.camera.width_px, f.camera.height_px, f.camera.width_px * 3, "rgb8"};
-}
-
 // The accepted detection whose peak and base are both within tol_px of the truth cone's.
 const ConeDetection* Found(const std::vector<ConeDetection>& cones, const TruthCone& t, double tol_px) {
   for (const ConeDetection& d : cones)
@@ -50,7 +46,7 @@ TEST(MergedTip, NearConesTipInFrontOfAFarConeGoesBackToIt) {
         const double eye_z = height_m * (near_m + apart_m) / apart_m + dz_m;
         const Eigen::Vector3d eye = a + near_m * along + offset_m * across + Eigen::Vector3d(0, 0, eye_z);
         const SimFrame f = RenderSim(scene, LookAt(eye, 0.5 * (a + b) + Eigen::Vector3d(0, 0, 0.3)), camera);
-        const SegmentationResult r_on = on.Process(View(f), f.camera), r_off = off.Process(View(f), f.camera);
+        const SegmentationResult r_on = on.Process(FrameView(f), f.camera), r_off = off.Process(FrameView(f), f.camera);
         ASSERT_TRUE(r_on.ok && r_off.ok);
         const bool near_off = Found(r_off.cones, f.truth[0], 1.5) != nullptr;
         const bool near_on = Found(r_on.cones, f.truth[0], 1.5) != nullptr;

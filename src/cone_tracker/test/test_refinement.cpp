@@ -18,10 +18,6 @@
 namespace cone_tracker {
 namespace {
 
-ImageView View(const SimFrame& f) {
-  return {f.rgb.data(), f.camera.width_px, f.camera.height_px, f.camera.width_px * 3, "rgb8"};
-}
-
 // Image bounding box of a cone (apex and base circle), raw pixels.
 Eigen::AlignedBox2d ConeBox(const SimFrame& f, const rig_sim::ConeSpec& c) {
   const CameraModel& cam = f.camera;
@@ -119,7 +115,7 @@ void ExpectAcceptedWhileTurning(const rig_sim::Scene& scene, size_t cone, const 
              .contains(ConeBox(f, scene.cones[cone])))
       continue;
     ++views;
-    const SegmentationResult r = seg.Process(View(f), cam);
+    const SegmentationResult r = seg.Process(FrameView(f), cam);
     ASSERT_TRUE(r.ok);
     if (!ScoreCone(f.truth[cone], r, &e))
       ADD_FAILURE() << name << ", turned " << deg << " deg: the cone with its peak at "
@@ -149,9 +145,9 @@ TEST(Refinement, OutlineBeatsTemplatesAndMeetsOnePixelOnRoadCones) {
   for (int i = 0; i < 40; ++i) {
     const SimFrame f = RenderSim(scene, RandomView(&rng));
     const CameraModel cam = f.camera;
-    Score(f, scene, outline.Process(View(f), cam), &eo);
-    Score(f, scene, templates.Process(View(f), cam), &et);
-    Score(f, scene, none.Process(View(f), cam), &en);
+    Score(f, scene, outline.Process(FrameView(f), cam), &eo);
+    Score(f, scene, templates.Process(FrameView(f), cam), &et);
+    Score(f, scene, none.Process(FrameView(f), cam), &en);
   }
   for (const auto& [name, e] :
        {std::make_pair("outline", eo), std::make_pair("templates", et), std::make_pair("line search", en)})
@@ -233,7 +229,7 @@ TEST(Refinement, OverlappingConesAreGatedNotMismeasured) {
     // Behind cone 0, on the line through cones 1 and 0, shifted sideways.
     const Eigen::Vector3d eye = c0 + 2.2 * along + offset_m * across + Eigen::Vector3d(0, 0, 1.4);
     const SimFrame f = RenderSim(scene, LookAt(eye, 0.5 * (c0 + c1) + Eigen::Vector3d(0, 0, 0.3)));
-    const SegmentationResult r = seg.Process(View(f), f.camera);
+    const SegmentationResult r = seg.Process(FrameView(f), f.camera);
     ASSERT_TRUE(r.ok);
     overlapping += ConeBox(f, scene.cones[0]).intersects(ConeBox(f, scene.cones[1]));
     for (const ConeDetection& d : r.rejected) gated += (d.failed_gates & kGateOutline) != 0;

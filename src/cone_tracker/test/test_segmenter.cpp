@@ -14,10 +14,6 @@
 namespace cone_tracker {
 namespace {
 
-ImageView View(const SimFrame& f, const std::string& encoding = "rgb8") {
-  return {f.rgb.data(), f.camera.width_px, f.camera.height_px, f.camera.width_px * 3, encoding};
-}
-
 // The target (1 px RMS); test_refinement.cpp measures it over many views.
 constexpr double kPeakTolPx = 2.0;
 constexpr double kBaseTolPx = 2.0;
@@ -63,7 +59,7 @@ TEST(Segmenter, DefaultLayoutRoadConesAtThreeMetres) {
   for (double az : {0.3, 1.4, 2.6}) {
     const Eigen::Vector3d eye(3.2 * std::cos(az), 3.2 * std::sin(az), 1.5);
     const SimFrame f = RenderSim(scene, LookAt(eye, Eigen::Vector3d(0, 0, 0.3)));
-    const SegmentationResult r = seg.Process(View(f), f.camera);
+    const SegmentationResult r = seg.Process(FrameView(f), f.camera);
     const double rms = MatchRms(f, r, 3);
     std::printf("default layout, azimuth %.1f rad: peak/base RMS %.2f px\n", az, rms);
     EXPECT_LT(rms, kRmsTolPx) << "azimuth " << az;
@@ -76,7 +72,7 @@ TEST(Segmenter, IndoorFourInchConesAndUndistortion) {
   const rig_sim::Scene scene = rig_sim::EquilateralScene(0.30, 0.10, rig_sim::ConeStyle::kPlain);
   Segmenter seg{SegmenterConfig()};
   const SimFrame f = RenderSim(scene, LookAt(Eigen::Vector3d(0.55, 0.25, 0.35), Eigen::Vector3d(0, 0, 0.03)));
-  const SegmentationResult r = seg.Process(View(f), f.camera);
+  const SegmentationResult r = seg.Process(FrameView(f), f.camera);
   const double rms = MatchRms(f, r, 3);
   std::printf("indoor 4-inch layout: peak/base RMS %.2f px\n", rms);
   EXPECT_LT(rms, kRmsTolPx);
@@ -119,11 +115,11 @@ TEST(Segmenter, BayerAndBgrGiveTheSameCones) {
       scene, LookAt(Eigen::Vector3d(3.2 * std::cos(1.4), 3.2 * std::sin(1.4), 1.5), Eigen::Vector3d(0, 0, 0.3)));
   Segmenter seg{SegmenterConfig()};
   const CameraModel cam = f.camera;
-  const SegmentationResult ref = seg.Process(View(f), cam);
+  const SegmentationResult ref = seg.Process(FrameView(f), cam);
   ASSERT_EQ(ref.cones.size(), 3u);
   SimFrame bgr = f;
   for (size_t i = 0; i < bgr.rgb.size(); i += 3) std::swap(bgr.rgb[i], bgr.rgb[i + 2]);
-  const SegmentationResult r_bgr = seg.Process(View(bgr, "bgr8"), cam);
+  const SegmentationResult r_bgr = seg.Process(FrameView(bgr, "bgr8"), cam);
   ASSERT_EQ(r_bgr.cones.size(), 3u);
   EXPECT_EQ((r_bgr.cones[0].peak_px - ref.cones[0].peak_px).norm(), 0.0);
   // Mosaic to RGGB (even rows R G, odd rows G B).
@@ -144,10 +140,10 @@ TEST(Segmenter, NoConesEmptyAndBadInputGiveClearErrors) {
   const SimFrame f = RenderSim(empty, LookAt(Eigen::Vector3d(3, 0, 1.5), Eigen::Vector3d(0, 0, 0)));
   Segmenter seg{SegmenterConfig()};
   const CameraModel cam = f.camera;
-  SegmentationResult r = seg.Process(View(f), cam);
+  SegmentationResult r = seg.Process(FrameView(f), cam);
   EXPECT_TRUE(r.ok);
   EXPECT_TRUE(r.cones.empty());
-  r = seg.Process(View(f, "mono8"), cam);
+  r = seg.Process(FrameView(f, "mono8"), cam);
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.error.find("mono8"), std::string::npos);
   r = seg.Process({nullptr, 0, 0, 0, "rgb8"}, cam);
@@ -161,7 +157,7 @@ TEST(Segmenter, NoConesEmptyAndBadInputGiveClearErrors) {
   CameraModel nan_cam = cam;
   nan_cam.distortion[0] = NAN;
   const SimFrame g = RenderSim(rig_sim::DefaultScene(), LookAt(Eigen::Vector3d(3, 0, 1.5), Eigen::Vector3d(0, 0, 0.3)));
-  r = seg.Process(View(g), nan_cam);  // never throws
+  r = seg.Process(FrameView(g), nan_cam);  // never throws
   EXPECT_TRUE(r.ok);
   SegmenterConfig bad;
   bad.min_axis_ratio = 0.5;
@@ -181,7 +177,7 @@ TEST(Segmenter, DistractorsAreRejectedAndConesFound) {
   scene.people.push_back(person);
   const SimFrame f = RenderSim(scene, LookAt(Eigen::Vector3d(3.4, 0.4, 1.6), Eigen::Vector3d(0, 0, 0.3)));
   Segmenter seg{SegmenterConfig()};
-  const SegmentationResult r = seg.Process(View(f), f.camera);
+  const SegmentationResult r = seg.Process(FrameView(f), f.camera);
   EXPECT_LT(MatchRms(f, r, 3), kRmsTolPx);
   EXPECT_GE(r.rejected.size(), 1u);
 }
@@ -192,11 +188,11 @@ TEST(Segmenter, ConeCutByTheBorderIsRejected) {
                 LookAt(Eigen::Vector3d(3.2 * std::cos(1.4), 3.2 * std::sin(1.4), 1.5), Eigen::Vector3d(0, 0, 0.3)));
   Segmenter seg{SegmenterConfig()};
   const CameraModel cam = f.camera;
-  const SegmentationResult full = seg.Process(View(f), cam);
+  const SegmentationResult full = seg.Process(FrameView(f), cam);
   ASSERT_EQ(full.cones.size(), 3u);
   // Crop the frame so that its left edge runs through the leftmost cone's axis.
   const int x0 = int(full.cones[0].peak_px.x());
-  ImageView cut = View(f);
+  ImageView cut = FrameView(f);
   cut.data += 3 * x0;
   cut.width -= x0;
   const SegmentationResult r = seg.Process(cut, cam);

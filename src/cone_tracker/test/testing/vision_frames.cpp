@@ -16,6 +16,10 @@ rig_sim::TruePose LookAt(const Eigen::Vector3d& eye_m, const Eigen::Vector3d& ta
   return p;
 }
 
+ImageView FrameView(const SimFrame& f, const std::string& encoding) {
+  return {f.rgb.data(), f.camera.width_px, f.camera.height_px, f.camera.width_px * 3, encoding};
+}
+
 SimFrame RenderSim(const rig_sim::Scene& scene, const rig_sim::TruePose& pose, const CameraModel& camera,
                    double noise_sigma_dn) {
   rig_sim::RenderConfig rc;

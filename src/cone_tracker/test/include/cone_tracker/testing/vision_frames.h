@@ -5,11 +5,13 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "cone_tracker/pose/pnp.h"
+#include "cone_tracker/vision/segmenter.h"
 #include "rig_sim/scene.h"
 #include "rig_sim/trajectory.h"
 
@@ -28,6 +30,8 @@ struct SimFrame {
 
 // camera_optical at eye_m looking at target_m, z up in `cones`.
 rig_sim::TruePose LookAt(const Eigen::Vector3d& eye_m, const Eigen::Vector3d& target_m);
+// The frame as the segmenter takes it.
+ImageView FrameView(const SimFrame& f, const std::string& encoding = "rgb8");
 SimFrame RenderSim(const rig_sim::Scene& scene, const rig_sim::TruePose& pose,
                    const CameraModel& camera = rig_model::ThesisCamera(), double noise_sigma_dn = 2.0);
 
