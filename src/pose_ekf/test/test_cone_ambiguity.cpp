@@ -116,9 +116,10 @@ std::vector<pose_ekf::ConeGeometry> AsymmetricLayout() {
 const pose_ekf::PinholeIntrinsics kRigSim512{385.0, 388.0, 255.5, 191.5};
 
 // The filter as a recording left it: pose_ekf/pose's pose and position covariance, with rig_sim's miss cost.
-EkfCore Recorded(const pose_math::Pose& T_cones_camera, const Eigen::Matrix3d& position_cov, double miss_cost) {
+EkfCore Recorded(const pose_math::Pose& T_cones_camera, const Eigen::Matrix3d& position_cov, double miss_cost,
+                 double unexplained_cost = 0.0) {
   EkfConfig c = ConeSimConfig();
-  c.cone_miss_cost = miss_cost;
+  c.cone_miss_cost = miss_cost, c.cone_unexplained_cost = unexplained_cost;
   EkfCore ekf{c};
   EXPECT_TRUE(ekf.Initialize(Camera(0.0, T_cones_camera, 0.0024, 0.01)));
   pose_ekf::FilterState s = ekf.state();
@@ -257,13 +258,7 @@ TEST(ConeGates, ARivalThatLeavesOrangeUnexplainedPaysForIt) {
                          {484, 315, 11, 14}, {481, 327, 12, 14}, {469, 338, 5, 14}, {468, 350, 20, 15},
                          {454, 364, 30, 15}, {447, 374, 37, 10}, {441, 383, 42, 1}, {441, 383, 40, 1}};
   const auto run = [&](double unexplained_cost, bool with_the_edge, ConeFrameResult* r) {
-    EkfConfig c = ConeSimConfig();
-    c.cone_miss_cost = 7.0, c.cone_unexplained_cost = unexplained_cost;  // pose_ekf_rig_sim.yaml's: 7, 1.75
-    EkfCore ekf{c};
-    EXPECT_TRUE(ekf.Initialize(Camera(0.0, predicted, 0.0024, 0.01)));
-    pose_ekf::FilterState s = ekf.state();
-    s.P.block<3, 3>(pose_ekf::kP, pose_ekf::kP) = position_cov;
-    ekf.Restore(s);
+    EkfCore ekf = Recorded(predicted, position_cov, 7.0, unexplained_cost);  // pose_ekf_rig_sim.yaml's: 7, 1.75
     ConeFrame f;
     f.K = K, f.layout = layout, f.width_px = 512, f.height_px = 384;
     f.cones.resize(1);

@@ -202,22 +202,30 @@ std::vector<std::optional<rig_model::ConeSilhouette>> SilhouettesAt(const StateV
   return silhouettes;
 }
 
-}  // namespace
+using Silhouettes = std::vector<std::optional<rig_model::ConeSilhouette>>;
 
-int ConesMissedAt(const StateVector& x, const ConeFrame& f, const std::vector<int>& seen) {
+int MissedIn(const Silhouettes& silhouettes, const ConeFrame& f, const std::vector<int>& seen) {
   if (!(f.width_px > 0.0 && f.height_px > 0.0)) return 0;
   std::vector<bool> seen_k(f.layout.size(), false);
   for (int id : seen)
     if (id >= 0 && static_cast<size_t>(id) < seen_k.size()) seen_k[static_cast<size_t>(id)] = true;
-  return rig_model::MissedInView(SilhouettesAt(x, f), seen_k, f.orange_px, f.width_px, f.height_px);
+  return rig_model::MissedInView(silhouettes, seen_k, f.orange_px, f.width_px, f.height_px);
 }
 
-int OrangeUnexplainedAt(const StateVector& x, const ConeFrame& f) {
+int UnexplainedIn(const Silhouettes& silhouettes, const ConeFrame& f) {
   if (f.orange_px.empty()) return 0;
   std::vector<rig_model::ConeSilhouette> detected;
   for (const ConeObservation& o : f.cones) detected.push_back(rig_model::DetectedSilhouette(o.px[0], o.px[2]));
-  return rig_model::UnexplainedOrange(SilhouettesAt(x, f), detected, f.orange_px, f.width_px, f.height_px);
+  return rig_model::UnexplainedOrange(silhouettes, detected, f.orange_px, f.width_px, f.height_px);
 }
+
+}  // namespace
+
+int ConesMissedAt(const StateVector& x, const ConeFrame& f, const std::vector<int>& seen) {
+  return MissedIn(SilhouettesAt(x, f), f, seen);
+}
+
+int OrangeUnexplainedAt(const StateVector& x, const ConeFrame& f) { return UnexplainedIn(SilhouettesAt(x, f), f); }
 
 // The iterated EKF update of one cone: the update from the prior x0 linearised at x_i takes the residual
 // z - h(x_i) - H_i (x0 - x_i) (x_i = x0 first: the EKF's (5.15)-(5.17)); each pass starts from the prior
@@ -383,23 +391,23 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
     std::vector<int> seen;
     for (size_t k = 0; k < f.cones.size(); ++k)
       if (static_cast<int>(k) != i) seen.push_back(f.cones[k].cone_id);
-    const auto missed = [&](const StateVector& x, int as_cone) {
-      seen.push_back(as_cone);
-      const int n = ConesMissedAt(x, f, seen);
-      seen.pop_back();
-      return n;
+    // A reading's misses and the orange it leaves over, from the layout projected once at its fitted pose.
+    const auto evidence = [&](const StateVector& x, int as_cone, int* missed, int* unexplained) {
+      *missed = *unexplained = 0;
+      if (!negative && !clutter) return 0.0;
+      const Silhouettes silhouettes = SilhouettesAt(x, f);
+      if (negative) {
+        seen.push_back(as_cone);
+        *missed = MissedIn(silhouettes, f, seen);
+        seen.pop_back();
+      }
+      if (clutter) *unexplained = UnexplainedIn(silhouettes, f);
+      return config_.cone_miss_cost * *missed + config_.cone_unexplained_cost * *unexplained;
     };
     StateVector x_fit;
     res.ambiguity_own_chi2 = iterations > 0 ? ConeFitCost(prior.x, prior.P, o.cone, f.K, z, Rn, iterations, &x_fit)
                                             : d2[static_cast<size_t>(i)];
-    if (negative) {
-      res.ambiguity_own_missed = missed(x_fit, o.cone_id);
-      res.ambiguity_own_chi2 += config_.cone_miss_cost * res.ambiguity_own_missed;
-    }
-    if (clutter) {
-      res.ambiguity_own_unexplained = OrangeUnexplainedAt(x_fit, f);
-      res.ambiguity_own_chi2 += config_.cone_unexplained_cost * res.ambiguity_own_unexplained;
-    }
+    res.ambiguity_own_chi2 += evidence(x_fit, o.cone_id, &res.ambiguity_own_missed, &res.ambiguity_own_unexplained);
     res.ambiguity_rival_chi2 = std::numeric_limits<double>::infinity();
     res.ambiguity_screened = 0;
     // A rival whose every fit costs more than own + margin (ConeFitLowerBound; sound for the iterated fit only,
@@ -411,10 +419,9 @@ UpdateResult EkfCore::UpdateCones(const ConeFrame& f, ConeFrameResult* out, int 
         ++res.ambiguity_screened;
         continue;
       }
+      int rival_missed = 0, rival_unexplained = 0;
       double rival = ConeFitCost(prior.x, prior.P, f.layout[j], f.K, z, Rn, iterations, &x_fit);
-      const int rival_missed = negative ? missed(x_fit, static_cast<int>(j)) : 0;
-      const int rival_unexplained = clutter ? OrangeUnexplainedAt(x_fit, f) : 0;
-      rival += config_.cone_miss_cost * rival_missed + config_.cone_unexplained_cost * rival_unexplained;
+      rival += evidence(x_fit, static_cast<int>(j), &rival_missed, &rival_unexplained);  // at the fit just made
       if (rival < res.ambiguity_rival_chi2) {
         res.ambiguity_rival_chi2 = rival;
         res.ambiguity_rival_id = static_cast<int>(j);
